@@ -1,0 +1,103 @@
+// Model: everything about a simulation that does not change during a run (rest geometry,
+// precomputed per-triangle factors, masses, material, the force terms and obstacles the
+// scene declared). State: what evolves (positions, velocities, time).
+// A step takes `const Model&` and `State&` (see step.h).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+#include "physics/obstacle.h"
+
+namespace tissu {
+
+// Fabric constants. E is the paper's eq. 5 matrix in Voigt order (uu, vv, uv):
+// [[weft, coupling, 0], [coupling, warp, 0], [0, 0, shear]].
+struct Material {
+  std::string name;            // preset name or "custom"
+  double density = 0.0;        // areal density rho_A, kg/m^2
+  double weft = 0.0;           // C_uu, N/m
+  double warp = 0.0;           // C_vv, N/m
+  double coupling = 0.0;       // C_uv, N/m
+  double shear = 0.0;          // G, N/m
+  double bending = 0.0;        // flexural rigidity B, N*m (energy per area B/2 k^2)
+  double bending_warp = -1.0;  // optional warp flexural rigidity, N*m; < 0 = same as weft
+  double damping = 0.0;        // strain-rate damping time, s: viscous stress = damping * E * de/dt
+  Mat3 stiffness() const;      // E, N/m
+};
+
+// Rest data of one triangle (eq. 1-2): distribution factors and area.
+struct TriangleRest {
+  double ru[3];  // r_ua, r_ub, r_uc, 1/m
+  double rv[3];  // r_va, r_vb, r_vc, 1/m
+  double area;   // rest area A = |d|/2, m^2
+};
+
+// Wind (eq. 8, interpreted; see docs/physics.md): each triangle feels
+// F = drag * A * ((w(t) - v_tri) . n) n spread equally over its vertices, where n is the
+// unit normal and w(t) the wind velocity with optional gusts.
+struct Wind {
+  Vec3 velocity = Vec3::Zero();  // mean wind velocity, m/s
+  double drag = 0.0;             // N*s/m^3, normal pressure per unit normal relative speed
+  double gust_amplitude = 0.0;   // fraction of the mean speed
+  double gust_period = 1.0;      // s
+  Vec3 at(double t) const;       // wind velocity at time t, m/s
+};
+
+struct PositionCorrection {
+  double threshold = 0.0;  // m
+  int iterations = 1;
+};
+
+enum class Integrator {
+  ExplicitEuler,    // eq. 9
+  SymplecticEuler,  // eq. 10 ("modified Euler")
+  BenameurDjedi,    // the paper's algorithm as printed, h F / (2 m)
+  BackwardEuler,    // eq. 11, Newton + PCG
+  Bdf2,             // second-order backward differentiation
+};
+const char* integrator_name(Integrator integrator);
+
+struct Model {
+  // Mesh (V vertices, T triangles).
+  TriList triangles;            // (T) vertex ids
+  Vec2List rest_uv;             // (V) rest coordinates, m
+  std::vector<TriangleRest> rest;  // (T) eq. 1-2 factors
+  std::vector<double> mass;     // (V) lumped mass, kg (rho_A * area / 3 summed)
+  std::vector<double> inv_mass; // (V) 1/kg, 0 for pinned vertices
+  std::vector<double> lumped_area;  // (V) one third of the adjacent rest areas, m^2
+  std::vector<uint8_t> pinned;  // (V) 1 = position fixed
+  Material material;
+
+  // Force terms and constraints the scene declared; absent = not modelled.
+  std::optional<Vec3> gravity;          // m/s^2
+  std::optional<double> air_damping;    // N*s/m^3 (eq. 7 per unit cloth area)
+  std::optional<Wind> wind;
+  std::optional<PositionCorrection> position_correction;
+  std::vector<Obstacle> obstacles;
+  bool bending_enabled() const { return material.bending > 0.0; }
+
+  // Time stepping.
+  Integrator integrator = Integrator::SymplecticEuler;
+  double dt = 1e-3;  // s
+
+  int num_vertices() const { return static_cast<int>(rest_uv.size()); }
+  int num_triangles() const { return static_cast<int>(triangles.size()); }
+};
+
+struct State {
+  Vec3List x;  // (V) positions, m
+  Vec3List v;  // (V) velocities, m/s
+  double t = 0.0;  // s
+  long long step = 0;
+};
+
+// Builds the rest data (eq. 1-2), lumped masses and areas from a mesh and a material.
+// Throws InputError naming the triangle for degenerate rest triangles.
+void precompute_rest(Model& model);
+
+}  // namespace tissu
