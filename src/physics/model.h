@@ -15,6 +15,8 @@
 
 namespace tissu {
 
+struct BendingModel;  // physics/bending.h
+
 // Fabric constants. E is the paper's eq. 5 matrix in Voigt order (uu, vv, uv):
 // [[weft, coupling, 0], [coupling, warp, 0], [0, 0, shear]].
 struct Material {
@@ -53,6 +55,13 @@ struct PositionCorrection {
   int iterations = 1;
 };
 
+// Newton and conjugate-gradient settings of the implicit integrators.
+struct ImplicitOptions {
+  int max_newton_iterations = 1;   // 1 = one Newton iteration (Baraff & Witkin)
+  double newton_tolerance = 1e-6;  // relative residual of the nonlinear step
+  double cg_tolerance = 1e-8;      // relative residual of each linear solve
+};
+
 enum class Integrator {
   ExplicitEuler,    // eq. 9
   SymplecticEuler,  // eq. 10 ("modified Euler")
@@ -79,11 +88,13 @@ struct Model {
   std::optional<Wind> wind;
   std::optional<PositionCorrection> position_correction;
   std::vector<Obstacle> obstacles;
-  bool bending_enabled() const { return material.bending > 0.0; }
+  std::shared_ptr<const BendingModel> bending;  // null when the material has no bending
 
   // Time stepping.
   Integrator integrator = Integrator::SymplecticEuler;
   double dt = 1e-3;  // s
+  double max_speed = 100.0;  // m/s; a faster vertex means the run diverged
+  ImplicitOptions implicit;
 
   int num_vertices() const { return static_cast<int>(rest_uv.size()); }
   int num_triangles() const { return static_cast<int>(triangles.size()); }

@@ -1,0 +1,65 @@
+#include "physics/forces.h"
+
+#include <algorithm>
+
+#include "physics/membrane.h"
+
+namespace tissu {
+
+void add_gravity(const Model& model, const Vec3& g, Vec3List& f) {
+  for (size_t i = 0; i < f.size(); ++i) f[i] += model.mass[i] * g;
+}
+
+void add_air_damping(const Model& model, double c, const Vec3List& v, Vec3List& f) {
+  for (size_t i = 0; i < f.size(); ++i) f[i] -= (c * model.lumped_area[i]) * v[i];
+}
+
+void add_wind(const Model& model, const Wind& wind, const Vec3List& x, const Vec3List& v,
+              double t, Vec3List& f) {
+  const Vec3 w = wind.at(t);
+  for (const Tri& tri : model.triangles) {
+    const Vec3 cross = (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);
+    const double twice_area = cross.norm();
+    if (twice_area <= 0.0) continue;
+    const Vec3 n = cross / twice_area;
+    const Vec3 relative = w - (v[tri[0]] + v[tri[1]] + v[tri[2]]) / 3.0;
+    // Current area (the wind sees the deformed triangle), a third to each corner.
+    const Vec3 corner = (wind.drag * 0.5 * twice_area * relative.dot(n) / 3.0) * n;
+    for (int k = 0; k < 3; ++k) f[tri[k]] += corner;
+  }
+}
+
+void compute_forces(const Model& model, const Vec3List& x, const Vec3List& v, double t,
+                    Vec3List& f) {
+  std::fill(f.begin(), f.end(), Vec3::Zero());
+  add_membrane_forces(model, x, &v, f);
+  if (model.gravity) add_gravity(model, *model.gravity, f);
+  if (model.air_damping) add_air_damping(model, *model.air_damping, v, f);
+  if (model.wind) add_wind(model, *model.wind, x, v, t, f);
+}
+
+void compute_force_jacobian(const Model& model, const Vec3List& x, const Vec3List& v, double t,
+                            bool project_psd, BlockTriplets& dfdx, BlockTriplets& dfdv) {
+  (void)t;
+  add_membrane_jacobian(model, x, project_psd, dfdx, &dfdv);
+  if (model.air_damping) {
+    for (int i = 0; i < model.num_vertices(); ++i) {
+      dfdv.add(i, i, -(*model.air_damping * model.lumped_area[i]) * Mat3::Identity());
+    }
+  }
+  if (model.wind) {
+    for (const Tri& tri : model.triangles) {
+      const Vec3 cross = (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);
+      const double twice_area = cross.norm();
+      if (twice_area <= 0.0) continue;
+      const Vec3 n = cross / twice_area;
+      const Mat3 block = -(model.wind->drag * 0.5 * twice_area / 9.0) * (n * n.transpose());
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) dfdv.add(tri[i], tri[j], block);
+      }
+    }
+  }
+  (void)v;
+}
+
+}  // namespace tissu

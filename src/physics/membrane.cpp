@@ -1,0 +1,141 @@
+#include "physics/membrane.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace tissu {
+
+namespace {
+
+struct Gradients {
+  Vec3 U, V;  // dP/du, dP/dv (eq. 3)
+};
+
+inline Gradients deformation(const TriangleRest& r, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return {r.ru[0] * a + r.ru[1] * b + r.ru[2] * c, r.rv[0] * a + r.rv[1] * b + r.rv[2] * c};
+}
+
+inline Vec3 green_strain(const Gradients& g) {
+  return Vec3(0.5 * (g.U.squaredNorm() - 1.0), 0.5 * (g.V.squaredNorm() - 1.0), g.U.dot(g.V));
+}
+
+// Eq. 6 for corner j with stress s.
+inline Vec3 corner_force(const TriangleRest& r, const Gradients& g, const Vec3& s, int j) {
+  return -r.area * (s[0] * r.ru[j] * g.U + s[1] * r.rv[j] * g.V +
+                    s[2] * (r.ru[j] * g.V + r.rv[j] * g.U));
+}
+
+template <bool kDamped>
+void accumulate_forces(const Model& model, const Vec3List& x, const Vec3List* v, Vec3List& f) {
+  const Mat3 E = model.material.stiffness();
+  const double tau = model.material.damping;
+  const size_t n = model.triangles.size();
+  for (size_t t = 0; t < n; ++t) {
+    const Tri& tri = model.triangles[t];
+    const TriangleRest& r = model.rest[t];
+    const Gradients g = deformation(r, x[tri[0]], x[tri[1]], x[tri[2]]);
+    Vec3 e = green_strain(g);
+    if constexpr (kDamped) {
+      // Strain rate from the velocity gradients dU/dt, dV/dt.
+      const Gradients gv = deformation(r, (*v)[tri[0]], (*v)[tri[1]], (*v)[tri[2]]);
+      e += tau * Vec3(g.U.dot(gv.U), g.V.dot(gv.V), g.U.dot(gv.V) + gv.U.dot(g.V));
+    }
+    const Vec3 s = E * e;
+    for (int j = 0; j < 3; ++j) f[tri[j]] += corner_force(r, g, s, j);
+  }
+}
+
+}  // namespace
+
+Vec3 triangle_strain(const TriangleRest& rest, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return green_strain(deformation(rest, a, b, c));
+}
+
+double triangle_energy(const TriangleRest& rest, const Mat3& E, const Vec3& a, const Vec3& b,
+                       const Vec3& c) {
+  const Vec3 e = triangle_strain(rest, a, b, c);
+  return 0.5 * rest.area * e.dot(E * e);
+}
+
+void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], Vec3 f[3]) {
+  const Gradients g = deformation(rest, x[0], x[1], x[2]);
+  const Vec3 s = E * green_strain(g);
+  for (int j = 0; j < 3; ++j) f[j] = corner_force(rest, g, s, j);
+}
+
+void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, Vec3List& f) {
+  if (model.material.damping > 0.0 && v != nullptr) {
+    accumulate_forces<true>(model, x, v, f);
+  } else {
+    accumulate_forces<false>(model, x, nullptr, f);
+  }
+}
+
+double membrane_energy(const Model& model, const Vec3List& x) {
+  const Mat3 E = model.material.stiffness();
+  double total = 0.0;
+  for (size_t t = 0; t < model.triangles.size(); ++t) {
+    const Tri& tri = model.triangles[t];
+    total += triangle_energy(model.rest[t], E, x[tri[0]], x[tri[1]], x[tri[2]]);
+  }
+  return total;
+}
+
+double max_principal_strain(const Model& model, const Vec3List& x) {
+  double worst = 0.0;
+  for (size_t t = 0; t < model.triangles.size(); ++t) {
+    const Tri& tri = model.triangles[t];
+    const Vec3 e = triangle_strain(model.rest[t], x[tri[0]], x[tri[1]], x[tri[2]]);
+    // Principal values of [[e_uu, e_uv/2], [e_uv/2, e_vv]] (e_uv is engineering shear).
+    const double mean = 0.5 * (e[0] + e[1]);
+    const double radius = std::hypot(0.5 * (e[0] - e[1]), 0.5 * e[2]);
+    worst = std::max(worst, mean + radius);
+  }
+  return worst;
+}
+
+// Hessian of W = A/2 e^T E e: H_ij = A [ sum_ab E_ab de_a/dx_i de_b/dx_j^T
+//                                        + (R S R^T)_ij I ],  R = [r_u r_v], S = 2x2 stress.
+// The force Jacobian is -H. Damping: df/dv = -tau A sum_ab E_ab de_a/dx_i de_b/dx_j^T.
+void add_membrane_jacobian(const Model& model, const Vec3List& x, bool project_psd,
+                           BlockTriplets& dfdx, BlockTriplets* dfdv) {
+  const Mat3 E = model.material.stiffness();
+  const double tau = model.material.damping;
+  for (size_t t = 0; t < model.triangles.size(); ++t) {
+    const Tri& tri = model.triangles[t];
+    const TriangleRest& r = model.rest[t];
+    const Gradients g = deformation(r, x[tri[0]], x[tri[1]], x[tri[2]]);
+    const Vec3 s = E * green_strain(g);
+
+    Eigen::Matrix2d S;
+    S << s[0], s[2], s[2], s[1];
+    if (project_psd) {
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(S);
+      const Eigen::Vector2d lambda = eig.eigenvalues().cwiseMax(0.0);
+      S = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+    }
+
+    // de_a/dx_j as columns: J[j].col(a) for a in (uu, vv, uv).
+    Eigen::Matrix3d J[3];
+    for (int j = 0; j < 3; ++j) {
+      J[j].col(0) = r.ru[j] * g.U;
+      J[j].col(1) = r.rv[j] * g.V;
+      J[j].col(2) = r.ru[j] * g.V + r.rv[j] * g.U;
+    }
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Matrix3d JiE = J[i] * E;
+      for (int j = 0; j < 3; ++j) {
+        const Mat3 material = JiE * J[j].transpose();
+        const double geometric = r.ru[i] * r.ru[j] * S(0, 0) + r.rv[i] * r.rv[j] * S(1, 1) +
+                                 (r.ru[i] * r.rv[j] + r.rv[i] * r.ru[j]) * S(0, 1);
+        Mat3 block = material;
+        block.diagonal().array() += geometric;
+        dfdx.add(tri[i], tri[j], -r.area * block);
+        if (dfdv != nullptr && tau > 0.0) dfdv->add(tri[i], tri[j], -r.area * tau * material);
+      }
+    }
+  }
+}
+
+}  // namespace tissu

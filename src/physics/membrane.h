@@ -1,0 +1,39 @@
+// First-order finite-element membrane of Volino et al. 2009 as written in the paper
+// (eq. 3-6): Green strain from U = dP/du, V = dP/dv, stress = E strain, and the vertex
+// forces F_j = -A (s_uu r_uj U + s_vv r_vj V + s_uv (r_uj V + r_vj U)), which are exactly
+// minus the gradient of the triangle energy W = A/2 e^T E e.
+// Optional strain-rate damping adds the viscous stress tau * E * de/dt.
+#pragma once
+
+#include "core/types.h"
+#include "physics/block_triplets.h"
+#include "physics/model.h"
+
+namespace tissu {
+
+// Green strain (e_uu, e_vv, e_uv) of one triangle (eq. 3-4); e_uv = U.V.
+Vec3 triangle_strain(const TriangleRest& rest, const Vec3& a, const Vec3& b, const Vec3& c);
+
+// Energy of one triangle, J.
+double triangle_energy(const TriangleRest& rest, const Mat3& E, const Vec3& a, const Vec3& b,
+                       const Vec3& c);
+
+// Forces on the three corners of one triangle (eq. 6), N.
+void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], Vec3 f[3]);
+
+// Adds membrane forces (and damping forces when the material has damping and `v` is given).
+void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, Vec3List& f);
+
+// Total membrane energy, J.
+double membrane_energy(const Model& model, const Vec3List& x);
+
+// Largest principal Green strain over all triangles (dimensionless).
+double max_principal_strain(const Model& model, const Vec3List& x);
+
+// Adds df/dx (N/m) of the membrane force, and df/dv (N*s/m) of its damping when `dfdv` is
+// given. With `project_psd` the stress (geometric) term uses the nearest positive
+// semi-definite 2x2 stress, so -df/dx is positive semi-definite (for Newton/CG solves).
+void add_membrane_jacobian(const Model& model, const Vec3List& x, bool project_psd,
+                           BlockTriplets& dfdx, BlockTriplets* dfdv);
+
+}  // namespace tissu

@@ -1,0 +1,72 @@
+#include "physics/model.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+
+namespace tissu {
+
+Mat3 Material::stiffness() const {
+  Mat3 e;
+  e << weft, coupling, 0.0,  //
+      coupling, warp, 0.0,   //
+      0.0, 0.0, shear;
+  return e;
+}
+
+Vec3 Wind::at(double t) const {
+  if (gust_amplitude == 0.0) return velocity;
+  // Gusts: two incommensurate sines so the pattern does not repeat exactly (deterministic).
+  const double w = 2.0 * M_PI / gust_period;
+  const double g = 0.7 * std::sin(w * t) + 0.3 * std::sin(2.718281828 * w * t + 1.0);
+  return velocity * (1.0 + gust_amplitude * g);
+}
+
+const char* integrator_name(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::ExplicitEuler: return "explicit_euler";
+    case Integrator::SymplecticEuler: return "symplectic_euler";
+    case Integrator::BenameurDjedi: return "benameur_djedi";
+    case Integrator::BackwardEuler: return "backward_euler";
+    case Integrator::Bdf2: return "bdf2";
+  }
+  return "unknown";
+}
+
+// Eq. 1-2 of the paper: distribution factors r_u, r_v and the rest area of each triangle;
+// lumped masses rho_A * A / 3 per corner.
+void precompute_rest(Model& model) {
+  const int n = model.num_vertices();
+  model.rest.resize(model.triangles.size());
+  model.mass.assign(n, 0.0);
+  model.lumped_area.assign(n, 0.0);
+  for (size_t t = 0; t < model.triangles.size(); ++t) {
+    const Tri& tri = model.triangles[t];
+    const Vec2& a = model.rest_uv[tri[0]];
+    const Vec2& b = model.rest_uv[tri[1]];
+    const Vec2& c = model.rest_uv[tri[2]];
+    const double d = a.x() * (b.y() - c.y()) + b.x() * (c.y() - a.y()) + c.x() * (a.y() - b.y());
+    const double scale = std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), 1e-300});
+    if (!(std::fabs(d) > 1e-12 * scale)) {
+      throw InputError("triangle " + std::to_string(t) + ": zero rest area in (u, v)");
+    }
+    TriangleRest& r = model.rest[t];
+    r.ru[0] = (b.y() - c.y()) / d;
+    r.ru[1] = (c.y() - a.y()) / d;
+    r.ru[2] = (a.y() - b.y()) / d;
+    r.rv[0] = (c.x() - b.x()) / d;
+    r.rv[1] = (a.x() - c.x()) / d;
+    r.rv[2] = (b.x() - a.x()) / d;
+    r.area = std::fabs(d) / 2.0;
+    for (int k = 0; k < 3; ++k) model.lumped_area[tri[k]] += r.area / 3.0;
+  }
+  model.inv_mass.assign(n, 0.0);
+  if (model.pinned.size() != static_cast<size_t>(n)) model.pinned.assign(n, 0);
+  for (int i = 0; i < n; ++i) {
+    model.mass[i] = model.material.density * model.lumped_area[i];
+    model.inv_mass[i] = (model.pinned[i] || model.mass[i] <= 0.0) ? 0.0 : 1.0 / model.mass[i];
+  }
+}
+
+}  // namespace tissu

@@ -1,0 +1,237 @@
+#include "physics/membrane.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <random>
+
+#include "test_meshes.h"
+
+namespace tissu {
+namespace {
+
+// A random irregular triangle: rest corners in (u, v) and deformed 3D positions.
+struct RandomTriangle {
+  TriangleRest rest;
+  Vec3 x[3];
+};
+
+RandomTriangle random_triangle(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  Model m;
+  // Irregular but not degenerate: every angle above 15 degrees.
+  auto min_angle = [](const Vec2List& p) {
+    double smallest = M_PI;
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
+      smallest = std::min(smallest, std::acos(a.dot(b) / (a.norm() * b.norm())));
+    }
+    return smallest;
+  };
+  do {
+    m.rest_uv.clear();
+    for (int k = 0; k < 3; ++k) m.rest_uv.emplace_back(u(rng), u(rng));
+  } while (min_angle(m.rest_uv) < 15.0 * M_PI / 180.0);
+  if ((m.rest_uv[1] - m.rest_uv[0]).x() * (m.rest_uv[2] - m.rest_uv[0]).y() -
+          (m.rest_uv[1] - m.rest_uv[0]).y() * (m.rest_uv[2] - m.rest_uv[0]).x() <
+      0) {
+    std::swap(m.rest_uv[1], m.rest_uv[2]);
+  }
+  m.triangles.emplace_back(0, 1, 2);
+  m.material.density = 1.0;
+  precompute_rest(m);
+  RandomTriangle t;
+  t.rest = m.rest[0];
+  for (int k = 0; k < 3; ++k) {
+    // Deformed: rest shape lifted to 3D, stretched, sheared and rotated, plus noise.
+    t.x[k] = Vec3(1.1 * m.rest_uv[k].x() + 0.2 * m.rest_uv[k].y(), 0.9 * m.rest_uv[k].y(),
+                  0.3 * m.rest_uv[k].x()) +
+             Vec3(u(rng), u(rng), u(rng)) * 0.3;
+  }
+  return t;
+}
+
+// A full symmetric positive-definite E (the kernel must not assume zero E_13, E_23).
+Mat3 anisotropic_E() {
+  Mat3 E;
+  E << 900, 150, 40,  //
+      150, 400, -30,  //
+      40, -30, 80;
+  return E;
+}
+
+TEST(Membrane, ForcesAreMinusEnergyGradientOnRandomTriangles) {
+  std::mt19937 rng(7);
+  const Mat3 E = anisotropic_E();
+  for (int trial = 0; trial < 20; ++trial) {
+    RandomTriangle t = random_triangle(rng);
+    Vec3 f[3];
+    triangle_forces(t.rest, E, t.x, f);
+    std::vector<double> errors;
+    for (double h : {1e-5, 1e-6}) {
+      double max_error = 0.0, scale = 0.0;
+      for (int j = 0; j < 3; ++j) {
+        for (int a = 0; a < 3; ++a) {
+          Vec3 xp[3] = {t.x[0], t.x[1], t.x[2]}, xm[3] = {t.x[0], t.x[1], t.x[2]};
+          xp[j][a] += h;
+          xm[j][a] -= h;
+          const double dW = (triangle_energy(t.rest, E, xp[0], xp[1], xp[2]) -
+                             triangle_energy(t.rest, E, xm[0], xm[1], xm[2])) /
+                            (2 * h);
+          max_error = std::max(max_error, std::fabs(-dW - f[j][a]));
+          scale = std::max(scale, std::fabs(f[j][a]));
+        }
+      }
+      errors.push_back(max_error / scale);
+    }
+    // Central differences: the error is O(h^2), so a 10x smaller step cuts it >= 30x
+    // (until round-off, which is far below these values here).
+    EXPECT_LT(errors[1], 1e-6) << "trial " << trial;
+    EXPECT_LT(errors[1], errors[0] / 30) << "trial " << trial;
+  }
+}
+
+TEST(Membrane, RigidMotionGivesZeroForceAndEnergy) {
+  Vec3List x;
+  Model m = testing::grid_model(0.3, 0.2, 6, 5, 0.3, 3, &x);
+  m.material = testing::test_material();
+  precompute_rest(m);
+  const Mat3 R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  for (Vec3& p : x) p = R * p + Vec3(0.4, -1.0, 2.0);
+  Vec3List f(x.size(), Vec3::Zero());
+  add_membrane_forces(m, x, nullptr, f);
+  for (const Vec3& fi : f) EXPECT_LT(fi.norm(), 1e-10);
+  EXPECT_LT(membrane_energy(m, x), 1e-20);
+}
+
+// reference.md: strip of width W stretched by s along u, lateral edges free:
+// F = W s (C_uu - C_uv^2 / C_vv) (s^2 - 1) / 2.  Yh = 1000 N/m, nu = 0.3, W = 0.1 m.
+TEST(Membrane, UniaxialStretchMatchesClosedForm) {
+  const double Yh = 1000.0, nu = 0.3, W = 0.1, L = 0.3;
+  const double c = Yh / (1 - nu * nu);
+  const std::pair<double, double> cases[] = {
+      {1.01, 1.01505}, {1.05, 5.38125}, {1.10, 11.5500}, {1.20, 26.400}};
+  for (const auto& [s, expected] : cases) {
+    Vec3List x;
+    Model m = testing::grid_model(L, W, 12, 5, 0.35, 11, &x);
+    m.material.density = 0.1;
+    m.material.weft = m.material.warp = c;
+    m.material.coupling = nu * c;
+    m.material.shear = Yh / (2 * (1 + nu));
+    precompute_rest(m);
+    // Lateral contraction for zero transverse stress: e_vv = -nu e_uu.
+    const double e_uu = (s * s - 1) / 2, e_vv = -nu * e_uu;
+    const double lambda = std::sqrt(1 + 2 * e_vv);
+    for (size_t i = 0; i < x.size(); ++i) {
+      x[i] = Vec3(s * m.rest_uv[i].x(), lambda * m.rest_uv[i].y(), 0.0);
+    }
+    Vec3List f(x.size(), Vec3::Zero());
+    add_membrane_forces(m, x, nullptr, f);
+    double end_force = 0.0;
+    for (size_t i = 0; i < x.size(); ++i) {
+      if (m.rest_uv[i].x() > L / 2 - 1e-12) {
+        end_force += f[i].x();
+      } else if (m.rest_uv[i].x() > -L / 2 + 1e-12) {
+        EXPECT_LT(f[i].norm(), 1e-9 * expected) << "vertex " << i << " not at an end";
+      }
+    }
+    // The pulled end is pulled back by the membrane: the force on it is -F.
+    EXPECT_NEAR(-end_force, expected, 1e-8 * expected) << "s = " << s;
+  }
+}
+
+// Assembles the dense Jacobian of the membrane force for finite-difference checks.
+Eigen::MatrixXd dense(const BlockTriplets& t, int n) {
+  Eigen::SparseMatrix<double> s(3 * n, 3 * n);
+  s.setFromTriplets(t.entries.begin(), t.entries.end());
+  return Eigen::MatrixXd(s);
+}
+
+Eigen::VectorXd forces_of(const Model& m, const Vec3List& x, const Vec3List* v) {
+  Vec3List f(x.size(), Vec3::Zero());
+  add_membrane_forces(m, x, v, f);
+  Eigen::VectorXd out(3 * x.size());
+  for (size_t i = 0; i < x.size(); ++i) out.segment<3>(3 * i) = f[i];
+  return out;
+}
+
+TEST(Membrane, JacobianMatchesFiniteDifferencesOfForces) {
+  Vec3List x;
+  Model m = testing::grid_model(0.1, 0.08, 3, 3, 0.3, 5, &x);
+  m.material = testing::test_material();
+  precompute_rest(m);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> noise(-0.01, 0.01);
+  for (Vec3& p : x) p = Vec3(1.05 * p.x(), 0.97 * p.y(), 0.0) + Vec3(noise(rng), noise(rng), noise(rng));
+  const int n = static_cast<int>(x.size());
+  BlockTriplets dfdx;
+  add_membrane_jacobian(m, x, /*project_psd=*/false, dfdx, nullptr);
+  const Eigen::MatrixXd K = dense(dfdx, n);
+  double previous = INFINITY;
+  for (double h : {1e-5, 1e-6}) {
+    Eigen::MatrixXd K_fd(3 * n, 3 * n);
+    for (int c = 0; c < 3 * n; ++c) {
+      Vec3List xp = x, xm = x;
+      xp[c / 3][c % 3] += h;
+      xm[c / 3][c % 3] -= h;
+      K_fd.col(c) = (forces_of(m, xp, nullptr) - forces_of(m, xm, nullptr)) / (2 * h);
+    }
+    const double relative = (K - K_fd).norm() / K.norm();
+    EXPECT_LT(relative, 1e-6) << "h " << h;
+    EXPECT_LT(relative, previous);
+    previous = relative;
+  }
+  EXPECT_LT((K - K.transpose()).norm(), 1e-9 * K.norm()) << "Jacobian must be symmetric";
+}
+
+TEST(Membrane, ProjectedJacobianIsNegativeSemiDefiniteUnderCompression) {
+  Vec3List x;
+  Model m = testing::grid_model(0.1, 0.1, 3, 3, 0.3, 9, &x);
+  m.material = testing::test_material();
+  precompute_rest(m);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> noise(-0.01, 0.01);
+  for (Vec3& p : x) p = 0.8 * p + Vec3(noise(rng), noise(rng), noise(rng));  // compressed
+  const int n = static_cast<int>(x.size());
+  BlockTriplets exact, projected;
+  add_membrane_jacobian(m, x, false, exact, nullptr);
+  add_membrane_jacobian(m, x, true, projected, nullptr);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> e_exact(dense(exact, n));
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> e_proj(dense(projected, n));
+  // Compression makes the exact -df/dx indefinite; the projected one is not.
+  EXPECT_GT(e_exact.eigenvalues().maxCoeff(), 1e-6);
+  EXPECT_LT(e_proj.eigenvalues().maxCoeff(), 1e-9 * e_proj.eigenvalues().cwiseAbs().maxCoeff());
+}
+
+TEST(Membrane, DampingForceAndVelocityJacobian) {
+  Vec3List x;
+  Model m = testing::grid_model(0.1, 0.08, 3, 2, 0.3, 6, &x);
+  m.material = testing::test_material();
+  m.material.damping = 0.01;  // s
+  precompute_rest(m);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> noise(-0.2, 0.2);
+  Vec3List v(x.size());
+  for (Vec3& vi : v) vi = Vec3(noise(rng), noise(rng), noise(rng));
+  for (Vec3& p : x) p = Vec3(1.02 * p.x(), p.y(), 0.01 * p.x());
+  // Rigid translation velocity: no strain rate, no damping force.
+  Vec3List drift(x.size(), Vec3(0.3, -0.2, 0.1));
+  EXPECT_LT((forces_of(m, x, &drift) - forces_of(m, x, nullptr)).norm(), 1e-12);
+  // df/dv against finite differences (the damping force is linear in v).
+  const int n = static_cast<int>(x.size());
+  BlockTriplets dfdx, dfdv;
+  add_membrane_jacobian(m, x, false, dfdx, &dfdv);
+  const Eigen::MatrixXd D = dense(dfdv, n);
+  Eigen::MatrixXd D_fd(3 * n, 3 * n);
+  for (int c = 0; c < 3 * n; ++c) {
+    Vec3List vp = v, vm = v;
+    vp[c / 3][c % 3] += 1e-4;
+    vm[c / 3][c % 3] -= 1e-4;
+    D_fd.col(c) = (forces_of(m, x, &vp) - forces_of(m, x, &vm)) / 2e-4;
+  }
+  EXPECT_LT((D - D_fd).norm() / D.norm(), 1e-8);
+  EXPECT_GT(D.norm(), 0.0);
+}
+
+}  // namespace
+}  // namespace tissu

@@ -1,0 +1,58 @@
+// Small meshes built inside the physics tests (no dependency on the mesh generator).
+#pragma once
+
+#include <random>
+
+#include "physics/model.h"
+
+namespace tissu::testing {
+
+// A w x h rectangle of nx x ny cells in the x-y plane, rest (u, v) = (x, y); interior
+// vertices jittered by up to `jitter` of a cell and diagonals chosen at random, so the
+// triangles are irregular.
+inline Model grid_model(double w, double h, int nx, int ny, double jitter, unsigned seed,
+                        Vec3List* positions) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Model m;
+  for (int j = 0; j <= ny; ++j) {
+    for (int i = 0; i <= nx; ++i) {
+      Vec2 p(w * i / nx - w / 2, h * j / ny - h / 2);
+      if (i > 0 && i < nx && j > 0 && j < ny) {
+        p += Vec2(uniform(rng) * jitter * w / nx, uniform(rng) * jitter * h / ny);
+      }
+      m.rest_uv.push_back(p);
+    }
+  }
+  auto id = [nx](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      if (rng() % 2) {
+        m.triangles.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+        m.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+      } else {
+        m.triangles.emplace_back(id(i, j), id(i + 1, j), id(i, j + 1));
+        m.triangles.emplace_back(id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+      }
+    }
+  }
+  if (positions) {
+    positions->clear();
+    for (const Vec2& p : m.rest_uv) positions->emplace_back(p.x(), p.y(), 0.0);
+  }
+  return m;
+}
+
+// An anisotropic fabric-like material (N/m, kg/m^2).
+inline Material test_material() {
+  Material mat;
+  mat.name = "test";
+  mat.density = 0.2;
+  mat.weft = 800.0;
+  mat.warp = 500.0;
+  mat.coupling = 120.0;
+  mat.shear = 60.0;
+  return mat;
+}
+
+}  // namespace tissu::testing
