@@ -1,7 +1,7 @@
 // Basic vector types shared by every module. Units are SI throughout.
 #pragma once
 
-#include <Eigen/Core>
+#include <Eigen/Dense>
 #include <vector>
 
 namespace tissu {
