@@ -1,0 +1,88 @@
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <array>
+#include <map>
+
+#include "core/error.h"
+#include "mesh/format.h"
+#include "mesh/mesh_readers.h"
+
+namespace tissu {
+namespace {
+
+std::string place_of(unsigned mesh, unsigned face) {
+  return "mesh " + std::to_string(mesh) + ", face " + std::to_string(face);
+}
+
+}  // namespace
+
+MeshFileData read_with_assimp(const std::string& path) {
+  auto fail = [&](const std::string& problem) { throw InputError(path + ": " + problem); };
+  Assimp::Importer importer;
+  const aiScene* scene =
+      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices);
+  if (!scene || !scene->mRootNode) {
+    std::string reason = importer.GetErrorString();
+    if (!reason.empty() && reason.back() == '\n') reason.pop_back();
+    fail("cannot read this format or file: " + reason);
+  }
+
+  // Texture coordinates come from channel 0, and only when every mesh has them.
+  bool with_texture = scene->mNumMeshes > 0;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    with_texture = with_texture && scene->mMeshes[m]->HasTextureCoords(0);
+  }
+
+  MeshFileData data;
+  TriMesh& mesh = data.mesh;
+  mesh.uv_from_file = with_texture;
+  std::map<std::array<double, 3>, int> id_at;        // welding by exact position
+  std::vector<std::string> first_place;              // where each vertex got its (u, v)
+  double extent = 0;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* source = scene->mMeshes[m];
+    for (unsigned f = 0; f < source->mNumFaces; ++f) {
+      const aiFace& face = source->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines
+      Tri tri;
+      for (int k = 0; k < 3; ++k) {
+        const unsigned corner = face.mIndices[k];
+        if (corner >= source->mNumVertices) {
+          fail(place_of(m, f) + ": vertex index " + std::to_string(corner) +
+               " out of range (mesh has " + std::to_string(source->mNumVertices) + " vertices)");
+        }
+        const aiVector3D& p = source->mVertices[corner];
+        const Vec3 position(p.x, p.y, p.z);
+        if (!position.allFinite()) {
+          fail(place_of(m, f) + ": non-finite position " + format_short(position));
+        }
+        const auto [it, is_new] = id_at.emplace(
+            std::array<double, 3>{position.x(), position.y(), position.z()},
+            static_cast<int>(mesh.positions.size()));
+        tri[k] = it->second;
+        if (is_new) mesh.positions.push_back(position);
+        if (!with_texture) continue;
+        const aiVector3D& t = source->mTextureCoords[0][corner];
+        const Vec2 uv(t.x, t.y);
+        if (is_new) {
+          mesh.rest_uv.push_back(uv);
+          first_place.push_back(place_of(m, f));
+          extent = std::max(extent, uv.cwiseAbs().maxCoeff());
+        } else if (!same_texture_coordinates(mesh.rest_uv[tri[k]], uv,
+                                             std::max(extent, uv.cwiseAbs().maxCoeff()))) {
+          fail(place_of(m, f) + ": the vertex at " + format_short(position) +
+               " has texture coordinates " + format_short(uv) + " here but " +
+               format_short(mesh.rest_uv[tri[k]]) + " at " + first_place[tri[k]] + "; " +
+               kSeamAdvice);
+        }
+      }
+      mesh.triangles.push_back(tri);
+      data.triangle_places.push_back(place_of(m, f));
+    }
+  }
+  return data;
+}
+
+}  // namespace tissu

@@ -1,0 +1,34 @@
+// Flat cloth meshes made from parameters. Every generated mesh lies in the x-y plane (z = 0)
+// centred at the origin, with rest_uv = (x, y) in m and triangles counter-clockwise in (u, v).
+// Bad parameters raise InputError.
+#pragma once
+
+#include <cstdint>
+
+#include "mesh/mesh.h"
+
+namespace tissu {
+
+// A width x height rectangle (m) with about `triangles` triangles (within a few percent).
+// Regular: nx x ny cells matched to the aspect ratio, each cut in two along a diagonal that
+// alternates from cell to cell (a "union jack" pattern, no preferred shear direction).
+// Irregular: boundary points evenly spaced on the edges, seeded Poisson-disk interior points,
+// Delaunay triangulation and optimal-Delaunay smoothing; the same seed gives the same mesh.
+TriMesh generate_rectangle(double width, double height, int triangles, bool irregular,
+                           uint64_t seed);
+
+// A disk of `radius` (m). Regular: concentric rings of 6k vertices around a centre vertex
+// (6 n^2 triangles for n rings). Irregular: as for the rectangle, with boundary points evenly
+// spaced on the circle. The covered area is that of the boundary polygon, slightly below pi r^2.
+TriMesh generate_disk(double radius, int triangles, bool irregular, uint64_t seed);
+
+// Degenerate shapes for stability tests, cut into a regular (union jack) rectangle mesh.
+constexpr double kSliverWidthRatio = 0.01;  // the thin column's width / a normal column's
+constexpr double kCapHeightRatio = 1e-3;    // a cap's area / its area in the regular grid
+// The middle column of cells is kSliverWidthRatio as wide as the others, so its triangles
+// have edges in the ratio 1:100 (needles). Three interior vertices of valence 4 are pushed
+// almost onto the diagonal opposite them, leaving "caps": triangles with an angle near 180
+// degrees and kCapHeightRatio of their normal area (near zero). Needs at least 96 triangles.
+TriMesh generate_sliver_rectangle(double width, double height, int triangles);
+
+}  // namespace tissu

@@ -1,0 +1,34 @@
+// File readers behind load_mesh (internal to the mesh module).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace tissu {
+
+struct MeshFileData {
+  // positions and triangles; when mesh.uv_from_file, rest_uv holds the file's texture
+  // coordinates (not yet scaled; (0, 0) for vertices no face uses), else rest_uv is empty.
+  TriMesh mesh;
+  std::vector<std::string> triangle_places;  // where each triangle is in the file
+};
+
+// Wavefront OBJ, parsed here so that vertex i is the file's i-th `v` line. Reads v, vt and
+// f (v, v/vt, v/vt/vn, v//vn corners; negative indices count back); polygons are split into
+// a fan from their first corner; other statements are ignored.
+MeshFileData read_obj(const std::string& path);
+
+// Any other format assimp reads, triangulated and with node transforms applied. Corners at
+// exactly the same position are welded into one vertex (formats such as STL store a vertex
+// per corner); vertices are numbered in order of first appearance.
+MeshFileData read_with_assimp(const std::string& path);
+
+// True when two texture coordinates are the same up to rounding (`extent`: largest |uv|).
+bool same_texture_coordinates(const Vec2& a, const Vec2& b, double extent);
+
+// What a UV-seam error adds after naming the vertex.
+extern const char* const kSeamAdvice;
+
+}  // namespace tissu

@@ -1,0 +1,275 @@
+// load_mesh on small files written into a temporary directory: vertex order, rest (u, v),
+// other formats through assimp, and one test per class of bad input.
+#include "mesh/load.h"
+
+#include <gtest/gtest.h>
+
+#include "mesh/quality.h"
+#include "mesh_test_util.h"
+
+namespace tissu {
+namespace {
+
+using test::input_error_of;
+
+class meshLoad : public testing::Test {
+ protected:
+  // Writes `text` as `name` and returns the error load_mesh raises ("" for none).
+  std::string error_loading(const std::string& name, const std::string& text,
+                            double uv_scale = 1.0) {
+    const std::string path = dir_.write(name, text);
+    return input_error_of([&] { load_mesh(path, uv_scale); });
+  }
+  std::string path(const std::string& name) const { return dir_.file(name); }
+
+  test::TempDir dir_;
+};
+
+// Four corners of the unit square in the file order (0,0) (1,1) (1,0) (0,1); the faces use
+// them out of order. Ids 0..3 must follow the v lines, not the faces.
+const char kShuffledSquare[] =
+    "# a unit square\n"
+    "v 0 0 0\n"
+    "v 1 1 0\n"
+    "v 1 0 0\n"
+    "v 0 1 0\n"
+    "f 4 1 3\n"
+    "f 4 3 2\n";
+
+TEST_F(meshLoad, KeepsTheFilesVertexOrder) {
+  const TriMesh mesh = load_mesh(dir_.write("square.obj", kShuffledSquare), 1.0);
+  ASSERT_EQ(mesh.positions.size(), 4u);
+  EXPECT_EQ(mesh.positions[0], Vec3(0, 0, 0));
+  EXPECT_EQ(mesh.positions[1], Vec3(1, 1, 0));
+  EXPECT_EQ(mesh.positions[2], Vec3(1, 0, 0));
+  EXPECT_EQ(mesh.positions[3], Vec3(0, 1, 0));
+  EXPECT_EQ(mesh.triangles, (TriList{{3, 0, 2}, {3, 2, 1}}));
+}
+
+TEST_F(meshLoad, FlatMeshWithoutTextureIsProjectedOntoItsPlane) {
+  const TriMesh mesh = load_mesh(dir_.write("square.obj", kShuffledSquare), 1.0);
+  EXPECT_FALSE(mesh.uv_from_file);
+  for (size_t i = 0; i < 4; ++i) {  // x-y plane facing +z: (u, v) = (x, y)
+    EXPECT_NEAR(mesh.rest_uv[i].x(), mesh.positions[i].x(), 1e-15);
+    EXPECT_NEAR(mesh.rest_uv[i].y(), mesh.positions[i].y(), 1e-15);
+  }
+}
+
+TEST_F(meshLoad, TiltedFlatMeshKeepsItsShapeInUV) {
+  // The unit square rotated 90 deg about x (into the x-z plane) and shifted.
+  const TriMesh mesh = load_mesh(dir_.write("tilted.obj",
+                                            "v 2 5 0\nv 3 5 0\nv 3 5 1\nv 2 5 1\n"
+                                            "f 1 2 3\nf 1 3 4\n"),
+                                 1.0);
+  const MeshQuality q = measure_quality(mesh);
+  EXPECT_NEAR(q.total_area, 1.0, 1e-12);  // m^2
+  EXPECT_NEAR((mesh.rest_uv[1] - mesh.rest_uv[0]).norm(), 1.0, 1e-12);
+  EXPECT_NEAR((mesh.rest_uv[1] - mesh.rest_uv[0]).x(), 1.0, 1e-12);  // u along world x
+}
+
+TEST_F(meshLoad, TextureCoordinatesTimesUVScaleBecomeRestUV) {
+  // vt lines in cm and in another order than the v lines; the positions are draped (not flat).
+  const TriMesh mesh = load_mesh(dir_.write("draped.obj",
+                                            "v 0 0 0\nv 1 1 0.3\nv 1 0 0.2\nv 0 1 0.1\n"
+                                            "vt 0 100\nvt 100 0\nvt 0 0\nvt 100 100\n"
+                                            "f 4/1 1/3 3/2\nf 4/1 3/2 2/4\n"),
+                                 0.01);
+  EXPECT_TRUE(mesh.uv_from_file);
+  EXPECT_EQ(mesh.rest_uv[0], Vec2(0, 0));
+  EXPECT_EQ(mesh.rest_uv[1], Vec2(1, 1));
+  EXPECT_EQ(mesh.rest_uv[2], Vec2(1, 0));
+  EXPECT_EQ(mesh.rest_uv[3], Vec2(0, 1));
+  EXPECT_EQ(mesh.positions[1], Vec3(1, 1, 0.3));
+}
+
+TEST_F(meshLoad, ReadsNegativeIndicesPolygonsAndAllCornerForms) {
+  const std::string text =
+      "o cloth\r\n"
+      "mtllib cloth.mtl\r\n"
+      "v 0 0 0\r\n"
+      "v 1 0 0\r\n"
+      "v 1 1 0\r\n"
+      "v 0 1 0\r\n"
+      "vt 0 0\r\nvt 1 0\r\nvt 1 1\r\nvt 0 1\r\n"
+      "vn 0 0 1\r\n"
+      "g part\r\ns off\r\nusemtl cotton\r\n"
+      "f 1/1/1 2/2/1 3/3/1 4/4/1  # a quad\r\n"
+      "\r\n"
+      "v 2 0 0\r\n"
+      "vt 2 0\r\n"
+      "f -4/-4/1 -1/-1/1 -3/-3/1\r\n";
+  const TriMesh mesh = load_mesh(dir_.write("forms.obj", text), 1.0);
+  EXPECT_EQ(mesh.triangles, (TriList{{0, 1, 2}, {0, 2, 3}, {1, 4, 2}}));
+  EXPECT_EQ(mesh.rest_uv[4], Vec2(2, 0));
+
+  const TriMesh normals_only =
+      load_mesh(dir_.write("vn.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n"), 1.0);
+  EXPECT_EQ(normals_only.triangles, (TriList{{0, 1, 2}}));
+  EXPECT_FALSE(normals_only.uv_from_file);
+}
+
+TEST_F(meshLoad, DuplicatePositionsStayDistinctVertices) {
+  // Two squares side by side that share positions but not vertices (a cut in the cloth).
+  const TriMesh mesh = load_mesh(dir_.write("cut.obj",
+                                            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                            "v 1 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\n"
+                                            "f 1 2 3\nf 1 3 4\nf 5 6 7\nf 5 7 8\n"),
+                                 1.0);
+  EXPECT_EQ(mesh.positions.size(), 8u);
+  EXPECT_EQ(mesh.triangles[2], Tri(4, 5, 6));
+}
+
+TEST_F(meshLoad, OtherFormatsGoThroughAssimpAndAreWelded) {
+  // ASCII STL stores each corner separately: 6 corners weld into 4 vertices.
+  const std::string stl =
+      "solid square\n"
+      "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\n"
+      "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\n"
+      "endsolid square\n";
+  const TriMesh mesh = load_mesh(dir_.write("square.stl", stl), 1.0);
+  EXPECT_EQ(mesh.positions.size(), 4u);
+  EXPECT_EQ(mesh.triangles, (TriList{{0, 1, 2}, {0, 2, 3}}));
+  EXPECT_EQ(mesh.positions[3], Vec3(0, 1, 0));
+  EXPECT_NEAR(measure_quality(mesh).total_area, 1.0, 1e-12);
+}
+
+TEST_F(meshLoad, AssimpFormatTextureCoordinatesAreUsed) {
+  const std::string ply =
+      "ply\nformat ascii 1.0\n"
+      "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "property float s\nproperty float t\n"
+      "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0.5 0 0\n1 0 0 2 0\n1 1 0 2 2\n0 1 0 0 2\n"
+      "3 0 1 2\n3 0 2 3\n";
+  const TriMesh mesh = load_mesh(dir_.write("square.ply", ply), 0.5);
+  EXPECT_TRUE(mesh.uv_from_file);
+  ASSERT_EQ(mesh.positions.size(), 4u);
+  EXPECT_EQ(mesh.positions[0], Vec3(0, 0, 0.5));
+  EXPECT_EQ(mesh.rest_uv[2], Vec2(1, 1));
+  EXPECT_NEAR(measure_quality(mesh).total_area, 1.0, 1e-12);
+}
+
+// --- bad input: one line naming the file and the place ---
+
+TEST_F(meshLoad, MissingFile) {
+  EXPECT_EQ(input_error_of([&] { load_mesh(path("absent.obj"), 1.0); }),
+            path("absent.obj") + ": cannot open: No such file or directory");
+  EXPECT_EQ(input_error_of([&] { load_mesh(dir_.path().string(), 1.0); }),
+            dir_.path().string() + ": cannot open: not a regular file");
+}
+
+TEST_F(meshLoad, FormatAssimpCannotRead) {
+  const std::string message = error_loading("cloth.nonsense", "this is not a mesh\n");
+  EXPECT_EQ(message.rfind(path("cloth.nonsense") + ": cannot read this format or file: ", 0), 0u)
+      << message;
+}
+
+TEST_F(meshLoad, NoTriangles) {
+  EXPECT_EQ(error_loading("empty.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"),
+            path("empty.obj") + ": contains no triangles");
+}
+
+TEST_F(meshLoad, VertexIndexOutOfRange) {
+  EXPECT_EQ(error_loading("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 40\n"),
+            path("range.obj") + ": line 5 (face 2): vertex index 40 out of range (file has 3 vertices)");
+  EXPECT_EQ(error_loading("negative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n"),
+            path("negative.obj") + ": line 4 (face 1): vertex index -4 out of range (file has 3 vertices)");
+}
+
+TEST_F(meshLoad, UnreadableIndexOrNumber) {
+  EXPECT_EQ(error_loading("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"),
+            path("zero.obj") + ": line 4 (face 1): cannot read '0' as a vertex index");
+  EXPECT_EQ(error_loading("word.obj", "v 0 0 0\nv 1 zero 0\n"),
+            path("word.obj") + ": line 2: cannot read 'zero' as a number");
+  EXPECT_EQ(error_loading("short.obj", "v 0 0\n"),
+            path("short.obj") + ": line 1: a v statement needs 3 coordinates");
+  EXPECT_EQ(error_loading("edge.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n"),
+            path("edge.obj") + ": line 3 (face 1): a face needs at least 3 vertices, got 2");
+}
+
+TEST_F(meshLoad, NonFiniteCoordinates) {
+  EXPECT_EQ(error_loading("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"),
+            path("nan.obj") + ": line 2: non-finite coordinate 'nan'");
+  EXPECT_EQ(error_loading("inf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt -inf 0\nf 1/1 2/1 3/1\n"),
+            path("inf.obj") + ": line 4: non-finite coordinate '-inf'");
+}
+
+TEST_F(meshLoad, DuplicateTrianglesAreDroppedWithAWarning) {
+  testing::internal::CaptureStderr();
+  const TriMesh mesh = load_mesh(
+      dir_.write("dup.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 2 3 1\n"), 1.0);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            "warning: " + path("dup.obj") +
+                ": dropped 1 duplicate triangle (first: line 5 (face 2) repeats line 4 (face 1))\n");
+  EXPECT_EQ(mesh.triangles.size(), 1u);
+}
+
+TEST_F(meshLoad, ZeroAreaTriangles) {
+  EXPECT_EQ(error_loading("flat3d.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 4\nf 1 2 3\n"),
+            path("flat3d.obj") + ": line 6 (face 2): zero area in 3D (vertex ids 0, 1, 2, area 0 m^2)");
+  EXPECT_EQ(error_loading("flatuv.obj",
+                          "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 1\nvt 2 2\nf 1/1 2/2 3/3\n"),
+            path("flatuv.obj") + ": line 7 (face 1): zero area in (u, v) (vertex ids 0, 1, 2, area 0 m^2)");
+  EXPECT_EQ(error_loading("repeat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 2\n"),
+            path("repeat.obj") + ": line 5 (face 2): uses a vertex twice (vertex ids 0, 1, 1)");
+}
+
+TEST_F(meshLoad, UnusedVerticesAreKeptWithAWarning) {
+  testing::internal::CaptureStderr();
+  const TriMesh mesh =
+      load_mesh(dir_.write("unused.obj", "v 0 0 0\nv 9 9 0\nv 1 0 0\nv 0 1 0\nf 1 3 4\n"), 1.0);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            "warning: " + path("unused.obj") +
+                ": 1 vertex is used by no triangle (first: vertex id 1); kept\n");
+  EXPECT_EQ(mesh.positions.size(), 4u);
+}
+
+TEST_F(meshLoad, TextureSeamsAreRejected) {
+  EXPECT_EQ(error_loading("seam.obj",
+                          "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                          "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 5 5\n"
+                          "f 1/1 2/2 3/3\nf 1/1 3/5 4/4\n"),
+            path("seam.obj") +
+                ": line 11 (face 2): vertex index 3 has texture coordinates (5, 5) here but (1, 1) at "
+                "line 10 (face 1); UV seams are not supported, the rest shape needs one (u, v) per "
+                "vertex: give each side of the seam its own vertex, or remove the texture coordinates");
+}
+
+TEST_F(meshLoad, TextureIndicesMustBeCompleteAndInRange) {
+  EXPECT_EQ(error_loading("mixed.obj",
+                          "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                          "f 1/1 2/2 3/3\nf 1 3 4\n"),
+            path("mixed.obj") +
+                ": line 9 (face 2): a corner has no texture coordinate index, unlike line 8 (face 1) "
+                "(give every face corner a vt index, or none)");
+  EXPECT_EQ(error_loading("vtrange.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nf 1/1 2/2 3/1\n"),
+            path("vtrange.obj") +
+                ": line 5 (face 1): texture coordinate index 2 out of range (file has 1 texture "
+                "coordinates)");
+}
+
+TEST_F(meshLoad, CurvedMeshWithoutTextureIsRejected) {
+  const std::string message =
+      error_loading("curved.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.2\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+  EXPECT_EQ(message.rfind(path("curved.obj") + ": no texture coordinates and not flat: vertex id ", 0), 0u)
+      << message;
+}
+
+TEST_F(meshLoad, ClockwiseTextureIsReversedWithAWarning) {
+  testing::internal::CaptureStderr();
+  const TriMesh mesh = load_mesh(
+      dir_.write("mirror.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt -1 0\nvt 0 1\nf 1/1 2/2 3/3\n"),
+      1.0);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            "warning: " + path("mirror.obj") +
+                ": all triangles are clockwise in (u, v); reversed them all\n");
+  EXPECT_EQ(mesh.triangles[0], Tri(0, 2, 1));
+}
+
+TEST_F(meshLoad, UVScaleMustBePositive) {
+  const std::string file = dir_.write("square.obj", kShuffledSquare);
+  EXPECT_EQ(input_error_of([&] { load_mesh(file, 0.0); }), file + ": uv_scale must be positive, got 0");
+}
+
+}  // namespace
+}  // namespace tissu
