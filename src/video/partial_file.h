@@ -1,0 +1,27 @@
+// Output files appear complete or not at all: they are written under a hidden temporary
+// name in the same directory ("out/.demo.mp4.partial" for "out/demo.mp4") and renamed
+// into place once complete. A rename within one directory is atomic on POSIX systems.
+#pragma once
+
+#include <string>
+
+namespace tissu {
+
+// "dir/name" -> "dir/.name.partial".
+std::string partial_path_for(const std::string& final_path);
+
+// Renames the finished temporary file onto the final path; throws OutputError naming
+// `final_path` and the system's reason. The temporary file is removed on failure.
+void commit_partial_file(const std::string& partial_path, const std::string& final_path);
+
+// Removes the temporary file if it exists; never throws.
+void discard_partial_file(const std::string& partial_path) noexcept;
+
+// Flushes a closed file's data to the disk (so a power loss after the rename cannot
+// leave an empty final file); throws OutputError naming `final_path`.
+void sync_file_to_disk(const std::string& path, const std::string& final_path);
+
+// strerror text for errno values, thread-safe.
+std::string errno_text(int error_number);
+
+}  // namespace tissu
