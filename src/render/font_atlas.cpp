@@ -1,0 +1,148 @@
+#include "render/font_atlas.h"
+
+#include <stb_truetype.h>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+#include "render/render_error.h"
+
+namespace tissu {
+
+namespace {
+
+struct CodeRange {
+  int first, count;
+};
+// Latin-1 (printable ASCII and accented letters) and Greek.
+constexpr CodeRange kRanges[] = {{32, 95}, {160, 96}, {0x391, 0x3C9 - 0x391 + 1}};
+
+}  // namespace
+
+struct FontAtlas::Glyphs {
+  std::vector<std::vector<stbtt_packedchar>> ranges;  // one list per kRanges entry
+};
+
+std::vector<uint32_t> decode_utf8(const std::string& text) {
+  std::vector<uint32_t> out;
+  for (size_t i = 0; i < text.size();) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    int extra = byte < 0x80 ? 0 : (byte >> 5) == 6 ? 1 : (byte >> 4) == 14 ? 2 : (byte >> 3) == 30 ? 3 : -1;
+    uint32_t code = extra == 0 ? byte : extra == 1 ? byte & 0x1F : extra == 2 ? byte & 0x0F : byte & 0x07;
+    bool valid = extra >= 0 && i + extra < text.size();
+    for (int k = 1; valid && k <= extra; ++k) {
+      const auto next = static_cast<unsigned char>(text[i + k]);
+      valid = (next & 0xC0) == 0x80;
+      code = (code << 6) | (next & 0x3F);
+    }
+    out.push_back(valid ? code : 0xFFFD);
+    i += valid ? extra + 1 : 1;
+  }
+  return out;
+}
+
+FontAtlas::FontAtlas(const std::string& ttf_path, float pixel_height)
+    : glyphs_(std::make_unique<Glyphs>()) {
+  std::ifstream in(ttf_path, std::ios::binary);
+  const std::vector<unsigned char> ttf((std::istreambuf_iterator<char>(in)),
+                                       std::istreambuf_iterator<char>());
+  stbtt_fontinfo info;
+  if (ttf.empty() || !stbtt_InitFont(&info, ttf.data(), stbtt_GetFontOffsetForIndex(ttf.data(), 0))) {
+    throw RenderError(ttf_path + ": cannot read the TrueType font for text overlays");
+  }
+  int ascent = 0, descent = 0, gap = 0;
+  stbtt_GetFontVMetrics(&info, &ascent, &descent, &gap);
+  const float scale = stbtt_ScaleForPixelHeight(&info, pixel_height);
+  ascent_ = ascent * scale;
+  line_height_ = (ascent - descent + gap) * scale;
+
+  // Grow the atlas until every glyph fits (about 350 glyphs).
+  for (atlas_size_ = 256;; atlas_size_ *= 2) {
+    pixels_.assign(static_cast<size_t>(atlas_size_) * atlas_size_, 0);
+    std::vector<stbtt_pack_range> ranges;
+    glyphs_->ranges.clear();
+    for (const CodeRange& r : kRanges) glyphs_->ranges.emplace_back(r.count);
+    for (size_t i = 0; i < std::size(kRanges); ++i) {
+      stbtt_pack_range range{};
+      range.font_size = pixel_height;
+      range.first_unicode_codepoint_in_range = kRanges[i].first;
+      range.num_chars = kRanges[i].count;
+      range.chardata_for_range = glyphs_->ranges[i].data();
+      ranges.push_back(range);
+    }
+    stbtt_pack_context pack;
+    if (!stbtt_PackBegin(&pack, pixels_.data(), atlas_size_, atlas_size_, 0, 1, nullptr)) {
+      throw RenderError(ttf_path + ": cannot start packing the font atlas");
+    }
+    const int packed = stbtt_PackFontRanges(&pack, ttf.data(), 0, ranges.data(),
+                                            static_cast<int>(ranges.size()));
+    stbtt_PackEnd(&pack);
+    if (packed) break;
+    if (atlas_size_ >= 8192) {
+      throw RenderError(ttf_path + ": glyphs of " + std::to_string(pixel_height) +
+                        " px do not fit an 8192 px atlas");
+    }
+  }
+}
+
+FontAtlas::~FontAtlas() = default;
+
+float FontAtlas::layout(const std::string& text, float x, float baseline,
+                        std::vector<GlyphQuad>* quads) const {
+  for (uint32_t code : decode_utf8(text)) {
+    const stbtt_packedchar* glyphs = nullptr;
+    int index = 0;
+    for (size_t i = 0; i < std::size(kRanges) && glyphs == nullptr; ++i) {
+      const int offset = static_cast<int>(code) - kRanges[i].first;
+      if (offset >= 0 && offset < kRanges[i].count) {
+        glyphs = glyphs_->ranges[i].data();
+        index = offset;
+      }
+    }
+    if (glyphs == nullptr) {  // not in the atlas
+      glyphs = glyphs_->ranges[0].data();
+      index = '?' - kRanges[0].first;
+    }
+    stbtt_aligned_quad q;
+    float y = baseline;
+    stbtt_GetPackedQuad(glyphs, atlas_size_, atlas_size_, index, &x, &y, &q, 1);
+    if (quads != nullptr && q.x1 > q.x0) {
+      quads->push_back({q.x0, q.y0, q.x1, q.y1, q.s0, q.t0, q.s1, q.t1});
+    }
+  }
+  return x;
+}
+
+std::vector<std::string> wrap_text(const FontAtlas& font, const std::string& text,
+                                   float max_width) {
+  std::vector<std::string> lines;
+  std::string line, word;
+  auto flush_word = [&]() {
+    if (word.empty()) return;
+    const std::string joined = line.empty() ? word : line + " " + word;
+    if (!line.empty() && font.width(joined) > max_width) {
+      lines.push_back(line);
+      line = word;
+    } else {
+      line = joined;
+    }
+    word.clear();
+  };
+  for (char c : text) {
+    if (c == ' ' || c == '\n') {
+      flush_word();
+      if (c == '\n') {
+        lines.push_back(line);
+        line.clear();
+      }
+    } else {
+      word += c;
+    }
+  }
+  flush_word();
+  if (!line.empty() || lines.empty()) lines.push_back(line);
+  return lines;
+}
+
+}  // namespace tissu

@@ -1,0 +1,34 @@
+// What one frame shows, in world coordinates (metres, z up). The renderer has its
+// own obstacle description so that it does not depend on the physics library; the
+// caller converts physics Obstacles (at the frame's time) into ObstacleShapes.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace tissu {
+
+struct ObstacleShape {
+  enum class Kind { Sphere, Cylinder, Plane };
+  Kind kind = Kind::Sphere;
+  Vec3 center = Vec3::Zero();  // sphere/cylinder centre, or any point of the plane (m)
+  Vec3 axis = Vec3::UnitZ();   // cylinder axis or plane normal (need not be unit)
+  double radius = 0.0;         // sphere/cylinder radius (m)
+  double half_length = 0.0;    // cylinder half length along the axis (m)
+};
+
+struct FrameContent {
+  Vec3List positions;  // cloth vertex positions (m)
+  Vec2List rest_uv;    // cloth rest-state coordinates (m), one per vertex; drives the fabric pattern
+  TriList triangles;   // counter-clockwise seen from the front side
+  std::vector<ObstacleShape> obstacles;
+  std::vector<std::string> overlay_lines;  // drawn in the bottom-left corner, first line on top
+};
+
+// The corner text for `info: true`: integrator, triangle count and simulated time.
+std::vector<std::string> info_overlay_lines(const std::string& integrator, size_t triangle_count,
+                                            double time_s);
+
+}  // namespace tissu

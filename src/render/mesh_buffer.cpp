@@ -1,0 +1,56 @@
+#include "render/mesh_buffer.h"
+
+#include <cstddef>
+
+namespace tissu {
+
+MeshBuffer::MeshBuffer()
+    : vao_(make_vertex_array()), vertices_(make_buffer()), indices_(make_buffer()) {
+  glBindVertexArray(vao_.get());
+  glBindBuffer(GL_ARRAY_BUFFER, vertices_.get());
+  const GLsizei stride = sizeof(MeshVertex);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<const void*>(offsetof(MeshVertex, position)));
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<const void*>(offsetof(MeshVertex, normal)));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<const void*>(offsetof(MeshVertex, uv)));
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.get());  // recorded in the VAO
+  glBindVertexArray(0);
+}
+
+void MeshBuffer::upload(const IndexedMesh& mesh) {
+  glBindVertexArray(vao_.get());
+  glBindBuffer(GL_ARRAY_BUFFER, vertices_.get());
+  glBufferData(GL_ARRAY_BUFFER, mesh.vertices.size() * sizeof(MeshVertex), mesh.vertices.data(),
+               GL_STATIC_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, mesh.indices.size() * sizeof(uint32_t),
+               mesh.indices.data(), GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  count_ = static_cast<GLsizei>(mesh.indices.size());
+  indexed_ = true;
+}
+
+void MeshBuffer::upload_triangles(const std::vector<MeshVertex>& corners) {
+  glBindBuffer(GL_ARRAY_BUFFER, vertices_.get());
+  glBufferData(GL_ARRAY_BUFFER, corners.size() * sizeof(MeshVertex), corners.data(),
+               GL_STREAM_DRAW);
+  count_ = static_cast<GLsizei>(corners.size());
+  indexed_ = false;
+}
+
+void MeshBuffer::draw() const {
+  if (count_ == 0) return;
+  glBindVertexArray(vao_.get());
+  if (indexed_) {
+    glDrawElements(GL_TRIANGLES, count_, GL_UNSIGNED_INT, nullptr);
+  } else {
+    glDrawArrays(GL_TRIANGLES, 0, count_);
+  }
+  glBindVertexArray(0);
+}
+
+}  // namespace tissu

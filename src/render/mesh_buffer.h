@@ -1,0 +1,42 @@
+// Triangle meshes on the CPU and their GPU buffers. Vertex attributes:
+// location 0 position, 1 normal, 2 uv (the shaders declare the same locations).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+#include "render/gl_objects.h"
+
+namespace tissu {
+
+struct MeshVertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec2 uv;
+};
+
+struct IndexedMesh {
+  std::vector<MeshVertex> vertices;
+  std::vector<uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
+};
+
+class MeshBuffer {
+ public:
+  MeshBuffer();
+  // Static geometry drawn with indices.
+  void upload(const IndexedMesh& mesh);
+  // Geometry that changes every frame, drawn as consecutive triangles (no indices).
+  void upload_triangles(const std::vector<MeshVertex>& corners);
+  void draw() const;
+  bool empty() const { return count_ == 0; }
+
+ private:
+  GlVertexArray vao_;
+  GlBuffer vertices_, indices_;
+  GLsizei count_ = 0;
+  bool indexed_ = false;
+};
+
+}  // namespace tissu

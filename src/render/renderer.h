@@ -1,0 +1,45 @@
+// Draws frames of a run into an offscreen image: background, optional ground with
+// the key light's shadow, obstacles, the two-sided patterned cloth, then text.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "render/camera.h"
+#include "render/frame_content.h"
+#include "render/render_settings.h"
+
+namespace tissu {
+
+class Renderer {
+ public:
+  // Creates the GL context and compiles the shaders (looked up in
+  // `shader_dir_override` first when given). Throws RenderError.
+  explicit Renderer(const RenderSettings& settings, const std::string& shader_dir_override = "");
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Fixes the camera. Without it (and without eye and target in the settings) the
+  // first draw() frames its content with auto_camera and keeps that camera.
+  void set_camera(const Camera& camera);
+  const std::optional<Camera>& camera() const;
+
+  void draw(const FrameContent& content);
+  // The last frame drawn: width*height*3 bytes, RGB, first row at the top.
+  void read_rgb(std::vector<uint8_t>& out);
+
+  int width() const;
+  int height() const;
+  int samples() const;           // samples per pixel the driver gave (1 or 4 on llvmpipe)
+  std::string gl_version() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tissu

@@ -1,0 +1,18 @@
+// Axis-aligned bounds of what a frame shows: cloth vertices and the finite
+// obstacles (spheres, cylinders). Planes are unbounded and not included.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "render/frame_content.h"
+
+namespace tissu {
+
+using Box3 = Eigen::AlignedBox3d;
+
+Box3 content_bounds(const FrameContent& content);
+
+// The eight corners of a non-empty box.
+std::vector<Vec3> box_corners(const Box3& box);
+
+}  // namespace tissu

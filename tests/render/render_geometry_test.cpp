@@ -1,0 +1,147 @@
+// Geometry, camera framing and text layout: the parts of the renderer that need no GL.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "render/camera.h"
+#include "render/cloth_geometry.h"
+#include "render/font_atlas.h"
+#include "render/scene_bounds.h"
+#include "render/shader_files.h"
+#include "render/text_overlay.h"
+#include "test_scenes.h"
+
+namespace tissu {
+namespace {
+
+TEST(render_geometry, VertexNormalsAreAreaWeighted) {
+  // Two triangles sharing vertex 0: a large one in z = 0 (normal +z) and a small
+  // one in x = 0 (normal +x). The shared normal leans to the larger area.
+  const Vec3List p = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 2, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  const TriList t = {Tri(0, 1, 2), Tri(0, 3, 4)};
+  const Vec3List n = vertex_normals(p, t);
+  // Areas 2 and 0.5: normal ~ (0.5, 0, 2) normalised.
+  EXPECT_NEAR(n[0].x(), 0.5 / std::sqrt(4.25), 1e-12);
+  EXPECT_NEAR(n[0].z(), 2.0 / std::sqrt(4.25), 1e-12);
+  EXPECT_NEAR((n[1] - Vec3::UnitZ()).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((n[3] - Vec3::UnitX()).norm(), 0.0, 1e-12);
+}
+
+TEST(render_geometry, CornersAreThreePerTriangle) {
+  const FrameContent cloth = test::flat_cloth(3, 1.0);
+  std::vector<MeshVertex> corners;
+  cloth_corners(cloth, corners);
+  ASSERT_EQ(corners.size(), cloth.triangles.size() * 3);
+  const Tri& t = cloth.triangles[4];
+  EXPECT_FLOAT_EQ(corners[13].position.x, static_cast<float>(cloth.positions[t[1]].x()));
+  EXPECT_FLOAT_EQ(corners[13].uv.y, static_cast<float>(cloth.rest_uv[t[1]].y()));
+  EXPECT_FLOAT_EQ(corners[13].normal.z, 1.0f);
+}
+
+TEST(render_geometry, CheckClothRejectsBadIndices) {
+  FrameContent cloth = test::flat_cloth(1, 1.0);
+  cloth.triangles.push_back(Tri(0, 1, 9));
+  try {
+    check_cloth(cloth);
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_STREQ(e.what(), "frame content: triangle 2 uses vertex 9 of 4");
+  }
+}
+
+// Projects p with the camera; true when it lies inside the view (|x|, |y| <= 1).
+bool in_view(const Camera& c, double aspect, const Vec3& p) {
+  const Vec3 f = (c.target - c.eye).normalized();
+  const Vec3 r = f.cross(c.up).normalized();
+  const Vec3 u = r.cross(f);
+  const Vec3 q = p - c.eye;
+  const double depth = q.dot(f);
+  const double t = std::tan(c.fov_deg * M_PI / 360.0);
+  return depth > 0 && std::abs(q.dot(r) / (depth * t * aspect)) <= 1.0 &&
+         std::abs(q.dot(u) / (depth * t)) <= 1.0;
+}
+
+TEST(render_geometry, AutoCameraFramesClothObstaclesAndGround) {
+  FrameContent frame = test::flat_cloth(4, 2.0, 1.0);
+  frame.obstacles.push_back(test::sphere(Vec3(1.5, 0, 0.3), 0.3));
+  const double aspect = 16.0 / 9.0;
+  const Camera camera = auto_camera(frame, aspect, {}, -0.5);
+  // Cloth and sphere, stretched down to the ground where the cloth will fall.
+  const Box3 framed(Vec3(-1, -1, -0.5), Vec3(1.8, 1, 1));
+  for (const Vec3& corner : box_corners(framed)) {
+    EXPECT_TRUE(in_view(camera, aspect, corner)) << corner.transpose();
+  }
+  // Tight: from 80% of the distance some corner is out of view.
+  const Camera closer{camera.target + 0.8 * (camera.eye - camera.target), camera.target,
+                      camera.up, camera.fov_deg};
+  bool some_outside = false;
+  for (const Vec3& corner : box_corners(framed)) some_outside |= !in_view(closer, aspect, corner);
+  EXPECT_TRUE(some_outside);
+}
+
+TEST(render_geometry, AutoCameraKeepsAGivenTarget) {
+  CameraSettings settings;
+  settings.target = Vec3(0, 0, 3);
+  const Camera camera = auto_camera(test::flat_cloth(2, 1.0), 1.0, settings);
+  EXPECT_EQ(camera.target, Vec3(0, 0, 3));
+  EXPECT_TRUE(in_view(camera, 1.0, Vec3(0.5, 0.5, 0)));
+}
+
+TEST(render_geometry, ShaderLogNamesFileLineAndColumn) {
+  const std::vector<std::string> files = {"/s/cloth.frag", "/s/lighting.glsl"};
+  EXPECT_EQ(describe_shader_log("0:12(5): error: syntax error, unexpected ';'\n", files),
+            "/s/cloth.frag:12:5: error: syntax error, unexpected ';'");
+  EXPECT_EQ(describe_shader_log("1:3(1): error: `x' undeclared\n0:9(2): error: y\n", files),
+            "/s/lighting.glsl:3:1: error: `x' undeclared (+1 more)");
+  EXPECT_EQ(describe_shader_log("something odd\n", files), "/s/cloth.frag: something odd");
+}
+
+TEST(render_geometry, MissingShaderListsSearchedPaths) {
+  try {
+    find_shader("nothing.frag", {"/tmp/tissu-a", "/tmp/tissu-b"});
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_STREQ(e.what(),
+                 "shader nothing.frag not found; searched /tmp/tissu-a/nothing.frag, "
+                 "/tmp/tissu-b/nothing.frag");
+  }
+}
+
+TEST(render_geometry, SearchListStartsWithTheExplicitDirectory) {
+  const std::vector<std::string> dirs = shader_search_dirs("/explicit");
+  ASSERT_GE(dirs.size(), 3u);
+  EXPECT_EQ(dirs[0], "/explicit");
+  EXPECT_NE(dirs[1].find("/shaders"), std::string::npos);
+  EXPECT_EQ(dirs.back(), std::string(TISSU_SOURCE_DIR) + "/shaders");
+}
+
+TEST(render_geometry, DecodesUtf8) {
+  EXPECT_EQ(decode_utf8("a\xC3\xA9\xCE\x94"), (std::vector<uint32_t>{'a', 0xE9, 0x394}));
+  EXPECT_EQ(decode_utf8("\xFF" "b"), (std::vector<uint32_t>{0xFFFD, 'b'}));
+}
+
+TEST(render_geometry, FontLayoutAndWrapping) {
+  const FontAtlas font(overlay_font_path(), 20.0f);
+  EXPECT_GT(font.width("WWW"), font.width("iii"));
+  std::vector<GlyphQuad> quads;
+  font.layout("A b", 10, 30, &quads);
+  EXPECT_EQ(quads.size(), 2u);  // the space has no quad
+  EXPECT_LT(quads[0].y0, 30.0f);  // glyphs rise above the baseline (y down)
+  const std::vector<std::string> lines =
+      wrap_text(font, "one two three four five six seven", font.width("one two three"));
+  ASSERT_GE(lines.size(), 3u);
+  EXPECT_EQ(lines[0], "one two three");
+  for (const std::string& line : lines) EXPECT_LE(font.width(line), font.width("one two three"));
+}
+
+TEST(render_geometry, MissingFontIsNamed) {
+  try {
+    FontAtlas font("/nonexistent/font.ttf", 12.0f);
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_STREQ(e.what(), "/nonexistent/font.ttf: cannot read the TrueType font for text overlays");
+  }
+}
+
+}  // namespace
+}  // namespace tissu
