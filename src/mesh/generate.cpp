@@ -102,10 +102,6 @@ TriMesh irregular_rectangle(double width, double height, int triangles, uint64_t
   domain.contains = [hw, hh](const Vec2& p, double m) {
     return std::abs(p.x()) <= hw - m && std::abs(p.y()) <= hh - m;
   };
-  domain.clamp = [hw, hh](const Vec2& p, double m) {
-    const double lx = std::max(0.0, hw - m), ly = std::max(0.0, hh - m);
-    return Vec2(std::clamp(p.x(), -lx, lx), std::clamp(p.y(), -ly, ly));
-  };
   // A triangulation of B boundary and I interior points has 2 I + B - 2 triangles.
   const int boundary = static_cast<int>(domain.boundary.size());
   const int interior = std::max(0, (triangles - boundary + 2) / 2);
@@ -165,10 +161,6 @@ TriMesh irregular_disk(double radius, int triangles, uint64_t seed) {
   }
   const double inradius = radius * std::cos(kPi / count);  // of the boundary polygon
   domain.contains = [inradius](const Vec2& p, double m) { return p.norm() <= inradius - m; };
-  domain.clamp = [inradius](const Vec2& p, double m) {
-    const double limit = std::max(0.0, inradius - m), n = p.norm();
-    return n > limit ? Vec2(p * (limit / n)) : p;
-  };
   const int interior = std::max(0, (triangles - count + 2) / 2);
   PlanarTriangulation t = irregular_triangulation(domain, interior, spacing, seed);
   return flat_mesh(std::move(t.points), std::move(t.triangles));

@@ -175,8 +175,9 @@ enum class Smoothing {
   lloyd,
 };
 
-// Moves every interior point (id >= first_free) to its new place, kept `margin` inside the
-// domain. Interior points are never on the convex hull, so their faces are all finite.
+// Moves every interior point (id >= first_free) to its new place unless that lies closer
+// than `margin` to the boundary (then it stays, which also keeps points distinct).
+// Interior points are never on the convex hull, so their faces are all finite.
 void smoothing_pass(Smoothing kind, const Delaunay& triangulation, const ConvexDomain& domain,
                     size_t first_free, double margin, Vec2List& points) {
   Vec2List moved = points;
@@ -210,7 +211,7 @@ void smoothing_pass(Smoothing kind, const Delaunay& triangulation, const ConvexD
     } while (++face != end);
     if (weight > 0) {
       const Vec2 target = kind == Smoothing::odt ? Vec2(sum / weight) : Vec2(first + sum / weight);
-      moved[id] = domain.clamp(target, margin);
+      if (domain.contains(target, margin)) moved[id] = target;
     }
   }
   points = std::move(moved);

@@ -15,8 +15,6 @@ struct ConvexDomain {
   Vec2List boundary;  // points on the boundary, counter-clockwise; they become mesh vertices
   // True when p is inside with at least `margin` to the boundary.
   std::function<bool(const Vec2& p, double margin)> contains;
-  // The point inside (with `margin` to the boundary) nearest to p.
-  std::function<Vec2(const Vec2& p, double margin)> clamp;
 };
 
 struct PlanarTriangulation {

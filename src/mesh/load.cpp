@@ -67,13 +67,19 @@ void set_rest_uv_from_plane(TriMesh& mesh, const std::string& source_name) {
   }
   normal.normalize();
   const double tolerance = kFlatTolerance * diagonal;
+  size_t farthest = 0;
+  double farthest_distance = -1;
   for (size_t v = 0; v < mesh.positions.size(); ++v) {
     const double distance = std::abs((mesh.positions[v] - centre).dot(normal));
-    if (used[v] && distance > tolerance) {
-      fail("no texture coordinates and not flat: vertex id " + std::to_string(v) + " is " +
-           format_short(distance) + " m from the mean plane (tolerance " +
-           format_short(tolerance) + " m)" + advice);
+    if (used[v] && distance > farthest_distance) {
+      farthest = v;
+      farthest_distance = distance;
     }
+  }
+  if (farthest_distance > tolerance) {
+    fail("no texture coordinates and not flat: vertex id " + std::to_string(farthest) + " is " +
+         format_short(farthest_distance) + " m from the mean plane (tolerance " +
+         format_short(tolerance) + " m)" + advice);
   }
 
   Vec3 u = Vec3::UnitX() - normal.x() * normal;  // x projected onto the plane

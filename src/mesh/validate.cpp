@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <iostream>
-#include <map>
 
 #include "core/error.h"
 #include "mesh/format.h"
@@ -72,26 +71,39 @@ class Checker {
   }
 
   void drop_duplicates() {
-    std::map<std::array<int, 3>, size_t> first_with;
-    TriList kept;
-    std::vector<std::string> kept_places;
-    size_t dropped = 0;
-    std::string example;
-    for (size_t t = 0; t < mesh_.triangles.size(); ++t) {
+    // Triangles sorted by their vertex set (then by position in the list): the first of
+    // each run of equal sets is kept.
+    const size_t count = mesh_.triangles.size();
+    std::vector<std::pair<std::array<int, 3>, size_t>> keys(count);
+    for (size_t t = 0; t < count; ++t) {
       const Tri& tri = mesh_.triangles[t];
-      std::array<int, 3> key = {tri[0], tri[1], tri[2]};
-      std::sort(key.begin(), key.end());
-      const auto [it, is_new] = first_with.emplace(key, t);
-      if (!is_new) {
-        if (dropped++ == 0) example = place(t) + " repeats " + place(it->second);
-        continue;
+      keys[t] = {{tri[0], tri[1], tri[2]}, t};
+      std::sort(keys[t].first.begin(), keys[t].first.end());
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<char> keep(count, 1);
+    size_t dropped = 0, example = 0, example_of = 0;
+    for (size_t k = 1; k < count; ++k) {
+      if (keys[k].first != keys[k - 1].first) continue;
+      const size_t t = keys[k].second;
+      keep[t] = 0;
+      size_t first = k - 1;
+      while (first > 0 && keys[first - 1].first == keys[k].first) --first;
+      if (dropped++ == 0 || t < example) {
+        example = t;
+        example_of = keys[first].second;
       }
-      kept.push_back(tri);
-      if (!places_.empty()) kept_places.push_back(places_[t]);
     }
     if (dropped == 0) return;
     warn("dropped " + std::to_string(dropped) + " duplicate triangle" + (dropped > 1 ? "s" : "") +
-         " (first: " + example + ")");
+         " (first: " + place(example) + " repeats " + place(example_of) + ")");
+    TriList kept;
+    std::vector<std::string> kept_places;
+    for (size_t t = 0; t < count; ++t) {
+      if (!keep[t]) continue;
+      kept.push_back(mesh_.triangles[t]);
+      if (!places_.empty()) kept_places.push_back(std::move(places_[t]));
+    }
     mesh_.triangles = std::move(kept);
     places_ = std::move(kept_places);
   }
