@@ -127,21 +127,25 @@ void zip_rings(const std::vector<int>& inner, const std::vector<int>& outer, Tri
   }
 }
 
+// n rings with about alpha k vertices on ring k give about alpha n^2 triangles: n is chosen
+// for alpha near 6 (equilateral-like), then alpha = triangles / n^2 hits the count.
 TriMesh regular_disk(double radius, int triangles) {
   const int rings = std::max(1, static_cast<int>(std::lround(std::sqrt(triangles / 6.0))));
+  const double per_ring = static_cast<double>(triangles) / (rings * rings);
   Vec2List points{Vec2::Zero()};
   TriList tris;
   std::vector<int> inner{0};
   for (int k = 1; k <= rings; ++k) {
+    const int count = std::max(3, static_cast<int>(std::lround(per_ring * k)));
     std::vector<int> ring;
     const double r = radius * k / rings;
-    for (int i = 0; i < 6 * k; ++i) {
-      const double angle = 2.0 * kPi * i / (6 * k);
+    for (int i = 0; i < count; ++i) {
+      const double angle = 2.0 * kPi * i / count;
       ring.push_back(static_cast<int>(points.size()));
       points.emplace_back(r * std::cos(angle), r * std::sin(angle));
     }
     if (k == 1) {
-      for (int i = 0; i < 6; ++i) tris.emplace_back(0, ring[i], ring[(i + 1) % 6]);
+      for (int i = 0; i < count; ++i) tris.emplace_back(0, ring[i], ring[(i + 1) % count]);
     } else {
       zip_rings(inner, ring, tris);
     }

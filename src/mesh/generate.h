@@ -9,7 +9,8 @@
 
 namespace tissu {
 
-// A width x height rectangle (m) with about `triangles` triangles (within a few percent).
+// A width x height rectangle (m) with about `triangles` triangles (within a few percent
+// when each side gets several cells).
 // Regular: nx x ny cells matched to the aspect ratio, each cut in two along a diagonal that
 // alternates from cell to cell (a "union jack" pattern, no preferred shear direction).
 // Irregular: boundary points evenly spaced on the edges, seeded Poisson-disk interior points,
@@ -17,8 +18,8 @@ namespace tissu {
 TriMesh generate_rectangle(double width, double height, int triangles, bool irregular,
                            uint64_t seed);
 
-// A disk of `radius` (m). Regular: concentric rings of 6k vertices around a centre vertex
-// (6 n^2 triangles for n rings). Irregular: as for the rectangle, with boundary points evenly
+// A disk of `radius` (m). Regular: n equally spaced concentric rings around a centre vertex,
+// ring k with about 6k vertices (exactly 6k when the count is 6 n^2), zipped together. Irregular: as for the rectangle, with boundary points evenly
 // spaced on the circle. The covered area is that of the boundary polygon, slightly below pi r^2.
 TriMesh generate_disk(double radius, int triangles, bool irregular, uint64_t seed);
 
