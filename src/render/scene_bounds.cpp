@@ -6,7 +6,9 @@ namespace tissu {
 
 Box3 content_bounds(const FrameContent& content) {
   Box3 box;  // starts empty
-  for (const Vec3& p : content.positions) box.extend(p);
+  for (const Vec3& p : content.positions) {
+    if (p.allFinite()) box.extend(p);  // a diverging simulation must not wreck the view
+  }
   for (const ObstacleShape& o : content.obstacles) {
     if (o.kind == ObstacleShape::Kind::Sphere) {
       box.extend(o.center - Vec3::Constant(o.radius));
