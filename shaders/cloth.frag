@@ -69,9 +69,14 @@ void main() {
   vec3 color = to_display(shade(albedo, n, v_position, 24.0, 0.08, 1.0));
   if (u_wireframe == 1) {
     // Distance to the nearest edge in pixels; about a 1 px line with soft sides.
-    vec3 pixels = v_barycentric / max(fwidth(v_barycentric), vec3(1e-6));
+    vec3 change = max(fwidth(v_barycentric), vec3(1e-6));
+    vec3 pixels = v_barycentric / change;
     float edge = min(min(pixels.x, pixels.y), pixels.z);
-    color = mix(color, u_wireframe_color, 1.0 - smoothstep(0.5, 1.5, edge));
+    // Where triangles are only a few pixels across (far away, edge-on) the lines would
+    // merge into a solid colour: fade them out there.
+    float triangle_pixels = 1.0 / max(max(change.x, change.y), change.z);
+    float line = (1.0 - smoothstep(0.5, 1.5, edge)) * smoothstep(2.0, 5.0, triangle_pixels);
+    color = mix(color, u_wireframe_color, line);
   }
   frag_color = vec4(color, 1.0);
 }
