@@ -122,8 +122,8 @@ void Renderer::Impl::draw(const FrameContent& content) {
     if (o.kind == ObstacleShape::Kind::Plane) planes.push_back(o);
   }
   if (settings.ground) planes.push_back(ground_plane(*settings.ground));
-  for (const ObstacleShape& plane : planes) {
-    const glm::mat4 model = obstacle_model(plane, to_glm(camera->target), plane_half_size());
+  for (const ObstacleShape& shape : planes) {
+    const glm::mat4 model = obstacle_model(shape, to_glm(camera->target), plane_half_size());
     for (const MeshVertex& v : unit_square().vertices) {
       const glm::vec4 p = model * glm::vec4(v.position, 1.0f);
       extent.emplace_back(p.x, p.y, p.z);

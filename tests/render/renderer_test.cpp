@@ -93,6 +93,43 @@ TEST(render_frame, SphereCoversADiscOfItsProjectedRadius) {
   EXPECT_NEAR(sum_y / count, size / 2.0, 0.5);
 }
 
+int covered_pixels(const std::vector<uint8_t>& rgb) {
+  int n = 0;
+  for (size_t i = 0; i < rgb.size(); i += 3) n += rgb[i] + rgb[i + 1] + rgb[i + 2] > 0;
+  return n;
+}
+
+TEST(render_frame, CylinderAlongAnyAxisCoversItsProjectedRectangle) {
+  // Seen from far above, a cylinder lying along (1, 1, 0) shows a 2h x 2r rectangle
+  // (its caps are edge-on; perspective adds well under 1% from this far).
+  const int size = 200;
+  const double distance = 60;
+  RenderSettings s = top_view(size, size, distance);
+  s.camera.fov_deg = 3.5;
+  FrameContent frame;
+  ObstacleShape cylinder;
+  cylinder.kind = ObstacleShape::Kind::Cylinder;
+  cylinder.axis = Vec3(1, 1, 0);
+  cylinder.radius = 0.2;
+  cylinder.half_length = 0.8;
+  frame.obstacles.push_back(cylinder);
+  const double pixels_per_m = size / (2 * distance * std::tan(1.75 * M_PI / 180.0));
+  const double expected = (2 * 0.8) * (2 * 0.2) * pixels_per_m * pixels_per_m;
+  EXPECT_NEAR(covered_pixels(render(s, frame)), expected, 0.01 * expected);
+}
+
+TEST(render_frame, PlaneFillsTheViewFacingItAndVanishesEdgeOn) {
+  RenderSettings s = top_view(64, 64, 3);
+  FrameContent frame;
+  ObstacleShape plane;
+  plane.kind = ObstacleShape::Kind::Plane;
+  plane.axis = Vec3(0, 0.2, 1);
+  frame.obstacles.push_back(plane);
+  EXPECT_EQ(covered_pixels(render(s, frame)), 64 * 64);
+  frame.obstacles[0].axis = Vec3(1, 0, 0);  // contains the view direction
+  EXPECT_LT(covered_pixels(render(s, frame)), 64 * 2);
+}
+
 TEST(render_frame, BackgroundGradientRunsFromTopToBottom) {
   RenderSettings s = test::plain_settings(64, 32);
   s.background.top = Vec3(1, 0, 0);
