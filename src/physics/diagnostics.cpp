@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "physics/bending.h"
 #include "physics/membrane.h"
 
 namespace tissu {
@@ -14,7 +15,7 @@ double kinetic_energy(const Model& model, const Vec3List& v) {
 }
 
 double elastic_energy(const Model& model, const Vec3List& x) {
-  return membrane_energy(model, x);
+  return membrane_energy(model, x) + (model.bending ? bending_energy(*model.bending, x) : 0.0);
 }
 
 double gravity_potential(const Model& model, const Vec3List& x) {

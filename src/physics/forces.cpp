@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "physics/bending.h"
 #include "physics/membrane.h"
 
 namespace tissu {
@@ -33,6 +34,7 @@ void compute_forces(const Model& model, const Vec3List& x, const Vec3List& v, do
                     Vec3List& f) {
   std::fill(f.begin(), f.end(), Vec3::Zero());
   add_membrane_forces(model, x, &v, f);
+  if (model.bending) add_bending_forces(*model.bending, x, f);
   if (model.gravity) add_gravity(model, *model.gravity, f);
   if (model.air_damping) add_air_damping(model, *model.air_damping, v, f);
   if (model.wind) add_wind(model, *model.wind, x, v, t, f);
@@ -42,6 +44,7 @@ void compute_force_jacobian(const Model& model, const Vec3List& x, const Vec3Lis
                             bool project_psd, BlockTriplets& dfdx, BlockTriplets& dfdv) {
   (void)t;
   add_membrane_jacobian(model, x, project_psd, dfdx, &dfdv);
+  if (model.bending) add_bending_jacobian(*model.bending, x, dfdx);
   if (model.air_damping) {
     for (int i = 0; i < model.num_vertices(); ++i) {
       dfdv.add(i, i, -(*model.air_damping * model.lumped_area[i]) * Mat3::Identity());

@@ -20,29 +20,60 @@ inline Vec3 green_strain(const Gradients& g) {
   return Vec3(0.5 * (g.U.squaredNorm() - 1.0), 0.5 * (g.V.squaredNorm() - 1.0), g.U.dot(g.V));
 }
 
-// Eq. 6 for corner j with stress s.
+// Eq. 6 regrouped: F_j = -A ((s_uu r_uj + s_uv r_vj) U + (s_vv r_vj + s_uv r_uj) V).
 inline Vec3 corner_force(const TriangleRest& r, const Gradients& g, const Vec3& s, int j) {
-  return -r.area * (s[0] * r.ru[j] * g.U + s[1] * r.rv[j] * g.V +
-                    s[2] * (r.ru[j] * g.V + r.rv[j] * g.U));
+  return -r.area * ((s[0] * r.ru[j] + s[2] * r.rv[j]) * g.U + (s[1] * r.rv[j] + s[2] * r.ru[j]) * g.V);
 }
 
+// The hot loop of every explicit step: gather, strain, stress, scatter, written on plain
+// doubles so the compiler keeps everything in registers.
 template <bool kDamped>
 void accumulate_forces(const Model& model, const Vec3List& x, const Vec3List* v, Vec3List& f) {
   const Mat3 E = model.material.stiffness();
+  const double e00 = E(0, 0), e01 = E(0, 1), e02 = E(0, 2), e11 = E(1, 1), e12 = E(1, 2),
+               e22 = E(2, 2);
   const double tau = model.material.damping;
+  const double* px = x[0].data();
+  const double* pv = kDamped ? (*v)[0].data() : nullptr;
+  double* pf = f[0].data();
   const size_t n = model.triangles.size();
+  const Tri* tris = model.triangles.data();
+  const TriangleRest* rests = model.rest.data();
   for (size_t t = 0; t < n; ++t) {
-    const Tri& tri = model.triangles[t];
-    const TriangleRest& r = model.rest[t];
-    const Gradients g = deformation(r, x[tri[0]], x[tri[1]], x[tri[2]]);
-    Vec3 e = green_strain(g);
+    const int ia = 3 * tris[t][0], ib = 3 * tris[t][1], ic = 3 * tris[t][2];
+    const TriangleRest& r = rests[t];
+    double U[3], V[3];
+    for (int k = 0; k < 3; ++k) {
+      U[k] = r.ru[0] * px[ia + k] + r.ru[1] * px[ib + k] + r.ru[2] * px[ic + k];
+      V[k] = r.rv[0] * px[ia + k] + r.rv[1] * px[ib + k] + r.rv[2] * px[ic + k];
+    }
+    double euu = 0.5 * (U[0] * U[0] + U[1] * U[1] + U[2] * U[2] - 1.0);
+    double evv = 0.5 * (V[0] * V[0] + V[1] * V[1] + V[2] * V[2] - 1.0);
+    double euv = U[0] * V[0] + U[1] * V[1] + U[2] * V[2];
     if constexpr (kDamped) {
       // Strain rate from the velocity gradients dU/dt, dV/dt.
-      const Gradients gv = deformation(r, (*v)[tri[0]], (*v)[tri[1]], (*v)[tri[2]]);
-      e += tau * Vec3(g.U.dot(gv.U), g.V.dot(gv.V), g.U.dot(gv.V) + gv.U.dot(g.V));
+      double Ud[3], Vd[3];
+      for (int k = 0; k < 3; ++k) {
+        Ud[k] = r.ru[0] * pv[ia + k] + r.ru[1] * pv[ib + k] + r.ru[2] * pv[ic + k];
+        Vd[k] = r.rv[0] * pv[ia + k] + r.rv[1] * pv[ib + k] + r.rv[2] * pv[ic + k];
+      }
+      euu += tau * (U[0] * Ud[0] + U[1] * Ud[1] + U[2] * Ud[2]);
+      evv += tau * (V[0] * Vd[0] + V[1] * Vd[1] + V[2] * Vd[2]);
+      euv += tau * (U[0] * Vd[0] + U[1] * Vd[1] + U[2] * Vd[2] + Ud[0] * V[0] + Ud[1] * V[1] +
+                    Ud[2] * V[2]);
     }
-    const Vec3 s = E * e;
-    for (int j = 0; j < 3; ++j) f[tri[j]] += corner_force(r, g, s, j);
+    const double suu = -r.area * (e00 * euu + e01 * evv + e02 * euv);
+    const double svv = -r.area * (e01 * euu + e11 * evv + e12 * euv);
+    const double suv = -r.area * (e02 * euu + e12 * evv + e22 * euv);
+    const int corner[3] = {ia, ib, ic};
+    for (int j = 0; j < 3; ++j) {
+      const double alpha = suu * r.ru[j] + suv * r.rv[j];
+      const double beta = svv * r.rv[j] + suv * r.ru[j];
+      double* out = pf + corner[j];
+      out[0] += alpha * U[0] + beta * V[0];
+      out[1] += alpha * U[1] + beta * V[1];
+      out[2] += alpha * U[2] + beta * V[2];
+    }
   }
 }
 

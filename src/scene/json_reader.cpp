@@ -60,6 +60,9 @@ size_t edit_distance(const std::string& a, const std::string& b) {
 std::string format_number(double value) {
   if (std::isnan(value)) return "NaN";
   if (std::isinf(value)) return value > 0 ? "Infinity" : "-Infinity";
+  if (value == std::floor(value) && std::fabs(value) < 1e15) {
+    return std::to_string(static_cast<long long>(value));
+  }
   std::ostringstream s;
   s.precision(15);
   s << value;

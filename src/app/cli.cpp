@@ -1,0 +1,109 @@
+#include "app/cli.h"
+
+#include <cerrno>
+#include <filesystem>
+#include <iostream>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "video/partial_file.h"
+
+namespace tissu {
+
+namespace {
+
+const char* kRunHelp =
+    "usage: tissu run SCENE.json [--out DIR] [--set KEY=VALUE]... [--obj-every N]\n"
+    "                 [--report FILE] [--quiet]\n"
+    "Simulates a scene and writes DIR/report.json (and OBJ snapshots on request).\n"
+    "  --out DIR          output directory (default out/<scene name>)\n"
+    "  --set KEY=VALUE    override a scene value by dotted path, e.g. --set dt=1e-4,\n"
+    "                     --set cloth.material.density=0.2; VALUE is JSON if it parses\n"
+    "  --obj-every N      write DIR/obj/frame_NNNNNN.obj every N steps (and final.obj)\n"
+    "  --report FILE      report path (default DIR/report.json)\n"
+    "  --quiet            no progress output\n"
+    "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 130 interrupted.\n";
+
+const char* kRenderHelp =
+    "usage: tissu render SCENE.json [--out DIR] [--set KEY=VALUE]... [--png] [--no-mp4]\n"
+    "                    [--frames N] [--obj-every N] [--report FILE] [--quiet]\n"
+    "Simulates a scene, renders every frame off screen and writes DIR/<name>.mp4.\n"
+    "  --png              also write DIR/png/frame_NNNNNN.png for every frame\n"
+    "  --no-mp4           do not write the MP4\n"
+    "  --frames N         stop after N frames\n"
+    "  (other options as for tissu run)\n"
+    "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 130 interrupted.\n";
+
+long long parse_count(const std::string& option, const std::string& text, long long min) {
+  try {
+    size_t used = 0;
+    const long long value = std::stoll(text, &used);
+    if (used == text.size() && value >= min) return value;
+  } catch (const std::exception&) {
+  }
+  throw InputError(option + ": expected an integer >= " + std::to_string(min) + ", got \"" +
+                   text + "\"");
+}
+
+}  // namespace
+
+bool parse_scene_command(const std::vector<std::string>& args, bool render,
+                         SceneCommandOptions& out) {
+  const std::string command = render ? "tissu render" : "tissu run";
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throw InputError(command + ": " + a + " needs a value");
+      return args[++i];
+    };
+    if (a == "--help" || a == "-h") {
+      std::cout << (render ? kRenderHelp : kRunHelp);
+      return false;
+    } else if (a == "--out") {
+      out.out_dir = value();
+    } else if (a == "--set") {
+      out.overrides.push_back(value());
+    } else if (a == "--obj-every") {
+      out.obj_every = static_cast<int>(parse_count("--obj-every", value(), 1));
+    } else if (a == "--report") {
+      out.report_path = value();
+    } else if (a == "--quiet") {
+      out.quiet = true;
+    } else if (render && a == "--png") {
+      out.png = true;
+    } else if (render && a == "--no-mp4") {
+      out.mp4 = false;
+    } else if (render && a == "--frames") {
+      out.max_frames = parse_count("--frames", value(), 1);
+    } else if (!a.empty() && a[0] == '-') {
+      throw InputError(command + ": unknown option " + a + " (see " + command + " --help)");
+    } else if (out.scene_file.empty()) {
+      out.scene_file = a;
+    } else {
+      throw InputError(command + ": unexpected argument \"" + a + "\"");
+    }
+  }
+  if (out.scene_file.empty()) throw InputError(command + ": missing SCENE.json (see --help)");
+  if (out.out_dir.empty()) {
+    out.out_dir = (std::filesystem::path("out") /
+                   std::filesystem::path(out.scene_file).stem()).string();
+  }
+  if (out.report_path.empty()) {
+    out.report_path = (std::filesystem::path(out.out_dir) / "report.json").string();
+  }
+  return true;
+}
+
+void prepare_output_dir(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir + ": cannot create output directory: " + ec.message());
+  if (!std::filesystem::is_directory(dir)) {
+    throw InputError(dir + ": output path exists and is not a directory");
+  }
+  if (access(dir.c_str(), W_OK) != 0) {
+    throw InputError(dir + ": output directory is not writable: " + errno_text(errno));
+  }
+}
+
+}  // namespace tissu

@@ -1,0 +1,31 @@
+// Command-line parsing shared by the subcommands.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace tissu {
+
+// Options common to the commands that run a scene.
+struct SceneCommandOptions {
+  std::string scene_file;
+  std::string out_dir;  // default: out/<scene file stem>
+  std::vector<std::string> overrides;
+  std::string report_path;  // default: <out_dir>/report.json
+  int obj_every = 0;
+  bool quiet = false;
+  // render-only options
+  bool png = false;
+  bool mp4 = true;
+  long long max_frames = -1;
+};
+
+// Parses `args` (after the subcommand name). `render` enables --png, --no-mp4, --frames.
+// Throws InputError on bad usage; returns false when --help was printed.
+bool parse_scene_command(const std::vector<std::string>& args, bool render,
+                         SceneCommandOptions& out);
+
+// Creates `dir` (and parents) and checks it can be written; InputError otherwise.
+void prepare_output_dir(const std::string& dir);
+
+}  // namespace tissu

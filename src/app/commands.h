@@ -1,0 +1,18 @@
+// The subcommands of the tissu program. Each returns the process exit code.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace tissu {
+
+int command_run(const std::vector<std::string>& args);
+
+// Exit code of a finished run.
+constexpr int kExitOk = 0;
+constexpr int kExitOutputError = 1;
+constexpr int kExitBadInput = 2;
+constexpr int kExitDiverged = 3;
+constexpr int kExitInterrupted = 130;
+
+}  // namespace tissu

@@ -1,0 +1,42 @@
+// tissu: cloth simulation and headless rendering from JSON scenes.
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "core/error.h"
+
+namespace {
+
+const char* kHelp =
+    "usage: tissu <command> [options]\n"
+    "Commands:\n"
+    "  run SCENE.json      simulate a scene; write a report and OBJ snapshots\n"
+    "  help                show this help\n"
+    "Run `tissu <command> --help` for the options of a command.\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace tissu;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "help" || args[0] == "--help" || args[0] == "-h") {
+    std::cout << kHelp;
+    return args.empty() ? kExitBadInput : kExitOk;
+  }
+  const std::vector<std::string> rest(args.begin() + 1, args.end());
+  try {
+    if (args[0] == "run") return command_run(rest);
+    std::cerr << "tissu: unknown command \"" << args[0] << "\" (see tissu --help)\n";
+    return kExitBadInput;
+  } catch (const InputError& e) {
+    std::cerr << "tissu: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const OutputError& e) {
+    std::cerr << "tissu: " << e.what() << "\n";
+    return kExitOutputError;
+  } catch (const std::exception& e) {
+    std::cerr << "tissu: internal error: " << e.what() << "\n";
+    return kExitOutputError;
+  }
+}

@@ -1,0 +1,75 @@
+#include "app/report.h"
+
+#include <cerrno>
+#include <cstdio>
+
+#include "core/error.h"
+#include "video/partial_file.h"
+
+namespace tissu {
+
+namespace {
+
+nlohmann::ordered_json frame_row(const FrameStats& f) {
+  nlohmann::ordered_json row = {{"step", f.step},
+              {"time", f.time},
+              {"kinetic_energy", f.kinetic_energy},
+              {"elastic_energy", f.elastic_energy},
+              {"potential_energy", f.potential_energy},
+              {"max_speed", f.max_speed},
+              {"max_strain", f.max_strain}};
+  row["min_clearance"] = f.min_clearance ? nlohmann::ordered_json(*f.min_clearance) : nullptr;
+  return row;
+}
+
+}  // namespace
+
+nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const RunResult& result) {
+  nlohmann::ordered_json report;
+  report["scene"] = scene.name;
+  report["scene_file"] = scene.file;
+  report["vertices"] = model.num_vertices();
+  report["triangles"] = model.num_triangles();
+  report["integrator"] = integrator_name(model.integrator);
+  report["dt"] = model.dt;
+  report["steps_requested"] = scene.steps;
+  report["steps_done"] = result.steps_done;
+  report["simulated_time"] = static_cast<double>(result.steps_done) * model.dt;
+  report["status"] = run_status_name(result.status);
+  if (result.divergence) {
+    const Divergence& d = *result.divergence;
+    report["divergence"] = {
+        {"step", d.step}, {"time", d.time}, {"vertex", d.vertex}, {"reason", d.reason}};
+  } else {
+    report["divergence"] = nullptr;
+  }
+  const StageTimes& t = result.times;
+  report["wall_time_s"] = {{"simulate", t.simulate}, {"render", t.render},
+                           {"readback", t.readback}, {"encode", t.encode}, {"total", t.total}};
+  report["ms_per_step"] = result.steps_done > 0 ? 1e3 * t.simulate / result.steps_done : 0.0;
+  if (model.integrator == Integrator::BackwardEuler || model.integrator == Integrator::Bdf2) {
+    report["newton_iterations"] = result.newton_iterations;
+    report["cg_iterations"] = result.cg_iterations;
+  }
+  report["units"] = {{"time", "s"}, {"energy", "J"}, {"speed", "m/s"},
+                     {"strain", "Green strain"}, {"clearance", "m"}};
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const FrameStats& f : result.frames) rows.push_back(frame_row(f));
+  report["frames"] = rows;
+  return report;
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+  const std::string partial = partial_path_for(path);
+  FILE* file = std::fopen(partial.c_str(), "wb");
+  if (!file) throw OutputError(path + ": cannot write: " + errno_text(errno));
+  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+  const int write_errno = errno;
+  if (std::fclose(file) != 0 || !written) {
+    discard_partial_file(partial);
+    throw OutputError(path + ": cannot write: " + errno_text(written ? errno : write_errno));
+  }
+  commit_partial_file(partial, path);
+}
+
+}  // namespace tissu

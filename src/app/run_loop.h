@@ -1,0 +1,57 @@
+// The simulation loop shared by `tissu run` and `tissu render`: steps the model, samples
+// frames at the video frame rate, writes OBJ snapshots, stops on divergence or interrupt.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "physics/diagnostics.h"
+#include "physics/step.h"
+#include "scene/scene.h"
+
+namespace tissu {
+
+enum class RunStatus { Ok, Diverged, Interrupted };
+const char* run_status_name(RunStatus status);
+
+// Receives the state at every frame (step 0, every `frame_every` steps, and the last step).
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  virtual void frame(const Model& model, const State& state, const FrameStats& stats) = 0;
+};
+
+// Wall time spent per stage, s.
+struct StageTimes {
+  double simulate = 0.0;
+  double render = 0.0;
+  double readback = 0.0;
+  double encode = 0.0;
+  double total = 0.0;
+};
+
+struct RunOptions {
+  long long frame_every = 1;  // steps between frames
+  int obj_every = 0;          // steps between OBJ snapshots; 0 = only final.obj (when obj_dir set)
+  std::string obj_dir;        // "" = no OBJ output
+  bool progress = true;       // progress line on stderr
+};
+
+struct RunResult {
+  RunStatus status = RunStatus::Ok;
+  long long steps_done = 0;
+  std::optional<Divergence> divergence;
+  std::vector<FrameStats> frames;
+  StageTimes times;
+  int newton_iterations = 0;  // totals over the run (implicit integrators)
+  long long cg_iterations = 0;
+};
+
+RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& options,
+                         FrameSink* sink);
+
+// Steps between frames for a frame rate (frames per simulated second); at least 1.
+long long steps_per_frame(double dt, double frames_per_second);
+
+}  // namespace tissu

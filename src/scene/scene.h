@@ -1,0 +1,87 @@
+// A scene file, validated: every value checked, every unit SI. docs/scenes.md documents
+// each key. Building turns it into the Model and the initial State.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "physics/model.h"
+#include "scene/json_reader.h"
+
+namespace tissu {
+
+struct MeshSpec {
+  enum class Kind { Rectangle, Disk, Sliver, File };
+  Kind kind = Kind::Rectangle;
+  Vec2 size = Vec2(1.0, 1.0);  // rectangle width, height, m
+  double radius = 0.5;         // disk radius, m
+  int triangles = 1000;        // requested triangle count (about)
+  bool irregular = true;
+  uint64_t seed = 1;
+  std::string file;            // resolved path (relative paths are relative to the scene file)
+  double uv_scale = 1.0;       // texture coordinates -> metres
+};
+
+struct ClothTransform {
+  Vec3 scale = Vec3::Ones();       // applied to positions only: != 1 pre-stretches the cloth
+  Vec3 rotate_axis = Vec3::UnitZ();
+  double rotate_degrees = 0.0;
+  Vec3 translate = Vec3::Zero();   // m
+};
+
+struct PinSpec {
+  std::string path;                     // JSON path, for errors
+  std::vector<long long> vertices;
+  std::optional<std::pair<Vec3, Vec3>> box;  // world min, max at t = 0, m
+};
+
+struct Scene {
+  std::string file;  // scene file path ("" when built in memory)
+  std::string name;
+  double dt = 0.0;        // s
+  long long steps = 0;
+  Integrator integrator = Integrator::SymplecticEuler;
+  ImplicitOptions implicit;
+  double max_speed = 100.0;  // m/s
+
+  MeshSpec mesh;
+  ClothTransform transform;
+  Vec3 initial_velocity = Vec3::Zero();  // m/s
+  Material material;
+  std::vector<PinSpec> pins;
+
+  std::optional<Vec3> gravity;
+  std::optional<double> air_damping;
+  std::optional<Wind> wind;
+  std::optional<PositionCorrection> position_correction;
+  std::vector<Obstacle> obstacles;
+
+  Json render;  // the raw `render` block (null when absent), validated by the renderer
+};
+
+// Reads a scene file (JSON with // comments). Syntax errors name line and column.
+Json read_scene_json(const std::string& file);
+
+// Applies one `--set key.path=value` override (value parsed as JSON if it parses, else a
+// string). Array elements are addressed by index: obstacles.0.sphere.radius.
+void apply_override(Json& doc, const std::string& assignment);
+
+// Validates a scene document. `file` is used to resolve mesh paths. Errors are InputError
+// "<json.path>: <problem>".
+Scene parse_scene(const Json& doc, const std::string& file);
+
+// read + overrides + parse; errors prefixed with the file name, or with the override that
+// caused them.
+Scene load_scene(const std::string& file, const std::vector<std::string>& overrides = {});
+
+// Model and initial State of a scene (loads or generates the mesh, applies the transform,
+// pins, masses).
+struct Simulation {
+  Model model;
+  State state;
+};
+Simulation build_simulation(const Scene& scene);
+
+}  // namespace tissu

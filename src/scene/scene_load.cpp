@@ -1,0 +1,127 @@
+// Reading scene files and applying command-line overrides.
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <sstream>
+
+#include "scene/scene.h"
+
+namespace tissu {
+
+namespace {
+
+// Line and column (1-based) of a byte offset in `text`.
+std::pair<size_t, size_t> line_column(const std::string& text, size_t byte) {
+  size_t line = 1, column = 1;
+  for (size_t i = 0; i < std::min(byte, text.size()); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return {line, column};
+}
+
+// nlohmann's message without its "[json.exception...] parse error at line L, column C: "
+// prefix.
+std::string parse_reason(const std::string& what) {
+  std::string reason = what;
+  const size_t colon = reason.find(": ");
+  if (reason.rfind("[json.exception", 0) == 0 && colon != std::string::npos) {
+    reason = reason.substr(colon + 2);
+  }
+  return reason;
+}
+
+bool is_index(const std::string& s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(c); });
+}
+
+}  // namespace
+
+Json read_scene_json(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file + ": cannot open scene file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) throw InputError(file + ": cannot read scene file");
+  const std::string text = buffer.str();
+  try {
+    return Json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+  } catch (const Json::parse_error& e) {
+    const auto [line, column] = line_column(text, e.byte > 0 ? e.byte - 1 : 0);
+    throw InputError(file + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                     ": not valid JSON: " + parse_reason(e.what()));
+  }
+}
+
+void apply_override(Json& doc, const std::string& assignment) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw InputError("--set " + assignment + ": expected KEY=VALUE, e.g. --set dt=1e-4");
+  }
+  const std::string key = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  Json value;
+  try {
+    value = Json::parse(text);
+  } catch (const Json::parse_error&) {
+    value = text;  // not JSON: a string
+  }
+
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string part; std::getline(ss, part, '.');) {
+    if (part.empty()) throw InputError("--set " + assignment + ": empty key segment");
+    parts.push_back(part);
+  }
+  Json* node = &doc;
+  std::string walked;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string& part = parts[i];
+    const bool last = i + 1 == parts.size();
+    walked += (walked.empty() ? "" : ".") + part;
+    if (node->is_array()) {
+      if (!is_index(part) || std::stoull(part) >= node->size()) {
+        throw InputError("--set " + assignment + ": " + walked + " is not an element of an "
+                         "array of " + std::to_string(node->size()));
+      }
+      node = &(*node)[std::stoull(part)];
+    } else if (node->is_object()) {
+      if (!last && !node->contains(part)) (*node)[part] = Json::object();
+      node = &(*node)[part];
+    } else {
+      throw InputError("--set " + assignment + ": " + walked + " is inside a value that is "
+                       "not an object");
+    }
+  }
+  *node = value;
+}
+
+Scene load_scene(const std::string& file, const std::vector<std::string>& overrides) {
+  Json doc = read_scene_json(file);
+  for (const std::string& o : overrides) apply_override(doc, o);
+  try {
+    return parse_scene(doc, file);
+  } catch (const InputError& e) {
+    // Name the override when the bad value came from one.
+    const std::string message = e.what();
+    for (const std::string& o : overrides) {
+      const std::string key = o.substr(0, o.find('='));
+      std::string dotted = message.substr(0, message.find(':'));
+      for (char& c : dotted) c = (c == '[' || c == ']') ? '.' : c;
+      dotted.erase(std::unique(dotted.begin(), dotted.end(),
+                               [](char a, char b) { return a == '.' && b == '.'; }),
+                   dotted.end());
+      if (!dotted.empty() && dotted.back() == '.') dotted.pop_back();
+      if (dotted == key || dotted.rfind(key + ".", 0) == 0) {
+        throw InputError("--set " + o + ": " + message);
+      }
+    }
+    throw InputError(file + ": " + message);
+  }
+}
+
+}  // namespace tissu

@@ -1,0 +1,293 @@
+// Strict parsing of a scene document into a Scene (docs/scenes.md).
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "physics/materials.h"
+#include "scene/scene.h"
+
+namespace tissu {
+
+namespace {
+
+Integrator parse_integrator(JsonReader& root) {
+  const std::string name =
+      root.choice("integrator", {"explicit_euler", "symplectic_euler", "benameur_djedi",
+                                 "backward_euler", "bdf2"});
+  if (name == "explicit_euler") return Integrator::ExplicitEuler;
+  if (name == "symplectic_euler") return Integrator::SymplecticEuler;
+  if (name == "benameur_djedi") return Integrator::BenameurDjedi;
+  if (name == "backward_euler") return Integrator::BackwardEuler;
+  return Integrator::Bdf2;
+}
+
+MeshSpec parse_mesh(JsonReader mesh, const std::string& scene_file) {
+  MeshSpec spec;
+  if (mesh.has("file")) {
+    spec.kind = MeshSpec::Kind::File;
+    const std::string file = mesh.string("file");
+    if (file.empty()) throw InputError(mesh.path_of("file") + ": must not be empty");
+    std::filesystem::path p(file);
+    if (p.is_relative() && !scene_file.empty()) {
+      p = std::filesystem::path(scene_file).parent_path() / p;
+    }
+    spec.file = p.lexically_normal().string();
+    spec.uv_scale = mesh.number("uv_scale", 1.0, Range::positive());
+    mesh.finish();
+    return spec;
+  }
+  const std::string kind = mesh.choice("generate", {"rectangle", "disk", "sliver_rectangle"});
+  if (kind == "disk") {
+    spec.kind = MeshSpec::Kind::Disk;
+    spec.radius = mesh.number("radius", Range::positive());
+  } else {
+    spec.kind = kind == "rectangle" ? MeshSpec::Kind::Rectangle : MeshSpec::Kind::Sliver;
+    spec.size = mesh.vec2("size", Range::positive());
+  }
+  // 4 million triangles is about 1 GiB of simulation state: beyond that, refuse.
+  spec.triangles = static_cast<int>(mesh.integer("triangles", Range::between(2, 4e6)));
+  spec.irregular = mesh.boolean("irregular", true);
+  spec.seed = static_cast<uint64_t>(mesh.integer("seed", 1, Range::between(0, 9e15)));
+  mesh.finish();
+  return spec;
+}
+
+ClothTransform parse_transform(JsonReader t) {
+  ClothTransform out;
+  if (t.has("scale")) {
+    const Json& s = t.raw("scale");
+    out.scale = s.is_array() ? checked_vec3(s, t.path_of("scale"))
+                             : Vec3::Constant(checked_number(s, t.path_of("scale"),
+                                                             Range::positive()));
+    for (int i = 0; i < 3; ++i) {
+      if (!(out.scale[i] > 0.0)) {
+        throw InputError(element_path(t.path_of("scale"), i) + ": must be > 0, got " +
+                         format_number(out.scale[i]));
+      }
+    }
+  }
+  if (t.has("rotate")) {
+    JsonReader r = t.object("rotate");
+    out.rotate_axis = r.vec3("axis");
+    if (out.rotate_axis.norm() == 0.0) throw InputError(r.path_of("axis") + ": must not be zero");
+    out.rotate_axis.normalize();
+    out.rotate_degrees = r.number("degrees");
+    r.finish();
+  }
+  out.translate = t.vec3("translate", Vec3::Zero());
+  t.finish();
+  return out;
+}
+
+Material parse_material(JsonReader& cloth) {
+  const Json& value = cloth.raw("material");
+  const std::string path = cloth.path_of("material");
+  if (value.is_string()) {
+    const std::string name = value.get<std::string>();
+    if (auto preset = material_preset(name)) return *preset;
+    std::string list;
+    for (const std::string& n : material_preset_names()) list += (list.empty() ? "" : ", ") + n;
+    const std::string near = closest_key(name, material_preset_names());
+    throw InputError(path + ": unknown preset \"" + name + "\"" +
+                     (near.empty() ? "" : " (did you mean \"" + near + "\"?)") +
+                     "; expected one of " + list + ", or an object");
+  }
+  JsonReader m(value, path);
+  Material mat;
+  mat.name = "custom";
+  mat.density = m.number("density", Range::positive());
+  JsonReader k = m.object("stiffness");
+  mat.weft = k.number("weft", Range::positive());
+  mat.warp = k.number("warp", Range::positive());
+  mat.coupling = k.number("coupling", 0.0, Range::any());
+  mat.shear = k.number("shear", Range::positive());
+  k.finish();
+  // E must be positive definite (weft, warp > 0 and coupling^2 < weft * warp).
+  if (!(mat.coupling * mat.coupling < mat.weft * mat.warp)) {
+    throw InputError(k.path_of("coupling") + ": must satisfy coupling^2 < weft * warp (E "
+                     "positive definite), got " + format_number(mat.coupling));
+  }
+  mat.bending = m.number("bending", 0.0, Range::non_negative());
+  mat.bending_warp = m.number("bending_warp", -1.0, Range::non_negative());
+  mat.damping = m.number("damping", 0.0, Range::non_negative());
+  m.finish();
+  return mat;
+}
+
+std::vector<PinSpec> parse_pins(JsonReader& cloth) {
+  std::vector<PinSpec> pins;
+  if (!cloth.has("pins")) return pins;
+  const Json& list = cloth.raw("pins");
+  const std::string path = cloth.path_of("pins");
+  if (!list.is_array()) throw InputError(path + ": must be an array of pin selections");
+  for (size_t i = 0; i < list.size(); ++i) {
+    JsonReader p(list[i], element_path(path, i));
+    PinSpec pin;
+    pin.path = p.path();
+    if (p.has("vertices")) {
+      const Json& ids = p.raw("vertices");
+      if (!ids.is_array() || ids.empty()) {
+        throw InputError(p.path_of("vertices") + ": must be a non-empty array of vertex ids");
+      }
+      for (size_t k = 0; k < ids.size(); ++k) {
+        const std::string at = element_path(p.path_of("vertices"), k);
+        const double id = checked_number(ids[k], at, Range::non_negative());
+        if (id != std::floor(id)) throw InputError(at + ": must be an integer vertex id");
+        pin.vertices.push_back(static_cast<long long>(id));
+      }
+    } else if (p.has("box")) {
+      JsonReader b = p.object("box");
+      const Vec3 lo = b.vec3("min"), hi = b.vec3("max");
+      b.finish();
+      for (int a = 0; a < 3; ++a) {
+        if (lo[a] > hi[a]) throw InputError(b.path() + ": min must not exceed max on each axis");
+      }
+      pin.box = std::make_pair(lo, hi);
+    } else {
+      throw InputError(p.path() + ": needs \"vertices\" or \"box\"");
+    }
+    p.finish();
+    pins.push_back(pin);
+  }
+  return pins;
+}
+
+Wind parse_wind(JsonReader w) {
+  Wind wind;
+  wind.velocity = w.vec3("velocity");
+  wind.drag = w.number("drag", Range::positive());
+  if (w.has("gust")) {
+    JsonReader g = w.object("gust");
+    wind.gust_amplitude = g.number("amplitude", Range::between(0.0, 10.0));
+    wind.gust_period = g.number("period", Range::positive());
+    g.finish();
+  }
+  w.finish();
+  return wind;
+}
+
+ObstacleMotion parse_motion(JsonReader m) {
+  ObstacleMotion motion;
+  motion.velocity = m.vec3("velocity", Vec3::Zero());
+  if (m.has("amplitude") || m.has("period")) {
+    motion.amplitude = m.vec3("amplitude");
+    motion.period = m.number("period", Range::positive());
+  }
+  m.finish();
+  return motion;
+}
+
+Vec3 unit_vector(JsonReader& r, const std::string& key) {
+  const Vec3 v = r.vec3(key);
+  if (!(v.norm() > 0.0)) throw InputError(r.path_of(key) + ": must not be the zero vector");
+  return v.normalized();
+}
+
+Obstacle parse_obstacle(const Json& value, const std::string& path) {
+  JsonReader wrapper(value, path);
+  if (value.size() != 1) {
+    throw InputError(path + ": must hold exactly one of \"sphere\", \"cylinder\", \"plane\"");
+  }
+  const std::string kind = value.begin().key();
+  Obstacle ob;
+  if (kind != "sphere" && kind != "cylinder" && kind != "plane") {
+    const std::string near = closest_key(kind, {"sphere", "cylinder", "plane"});
+    throw InputError(wrapper.path_of(kind) + ": unknown obstacle" +
+                     (near.empty() ? "" : " (did you mean \"" + near + "\"?)") +
+                     "; expected sphere, cylinder or plane");
+  }
+  JsonReader r = wrapper.object(kind);
+  if (kind == "sphere") {
+    ob.kind = ObstacleKind::Sphere;
+    ob.center = r.vec3("center");
+    ob.radius = r.number("radius", Range::positive());
+  } else if (kind == "cylinder") {
+    ob.kind = ObstacleKind::Cylinder;
+    ob.center = r.vec3("center");
+    ob.axis = unit_vector(r, "axis");
+    ob.radius = r.number("radius", Range::positive());
+    ob.half_length = r.number("length", Range::positive()) / 2.0;
+  } else {
+    ob.kind = ObstacleKind::Plane;
+    ob.center = r.vec3("point");
+    ob.axis = unit_vector(r, "normal");
+  }
+  ob.friction = r.number("friction", 0.0, Range::non_negative());
+  if (r.has("motion")) ob.motion = parse_motion(r.object("motion"));
+  r.finish();
+  wrapper.finish();
+  return ob;
+}
+
+}  // namespace
+
+Scene parse_scene(const Json& doc, const std::string& file) {
+  JsonReader root(doc, "");
+  Scene scene;
+  scene.file = file;
+  scene.name = root.string("name");
+  scene.dt = root.number("dt", Range{0.0, 1.0, true, false});
+  if (root.has("steps") == root.has("duration")) {
+    throw InputError("steps: give exactly one of \"steps\" or \"duration\"");
+  }
+  if (root.has("steps")) {
+    scene.steps = root.integer("steps", Range::between(0, 1e9));
+    root.accept("duration");
+  } else {
+    const double duration = root.number("duration", Range::non_negative());
+    const double steps = std::round(duration / scene.dt);
+    if (steps > 1e9) throw InputError("duration: needs more than 1e9 steps at this dt");
+    scene.steps = static_cast<long long>(steps);
+    root.accept("steps");
+  }
+  scene.integrator = parse_integrator(root);
+  if (root.has("implicit")) {
+    JsonReader im = root.object("implicit");
+    scene.implicit.max_newton_iterations =
+        static_cast<int>(im.integer("newton_iterations", 1, Range::between(1, 100)));
+    scene.implicit.newton_tolerance = im.number("newton_tolerance", 1e-6, Range::positive());
+    scene.implicit.cg_tolerance = im.number("cg_tolerance", 1e-8, Range::positive());
+    im.finish();
+  }
+  scene.max_speed = root.number("max_speed", 100.0, Range::positive());
+
+  JsonReader cloth = root.object("cloth");
+  scene.mesh = parse_mesh(cloth.object("mesh"), file);
+  if (cloth.has("transform")) scene.transform = parse_transform(cloth.object("transform"));
+  scene.initial_velocity = cloth.vec3("velocity", Vec3::Zero());
+  scene.material = parse_material(cloth);
+  scene.pins = parse_pins(cloth);
+  cloth.finish();
+
+  if (root.has("gravity")) scene.gravity = root.vec3("gravity");
+  if (root.has("air_damping")) scene.air_damping = root.number("air_damping", Range::positive());
+  if (root.has("wind")) scene.wind = parse_wind(root.object("wind"));
+  if (root.has("position_correction")) {
+    JsonReader pc = root.object("position_correction");
+    PositionCorrection c;
+    c.threshold = pc.number("threshold", Range::positive());
+    c.iterations = static_cast<int>(pc.integer("iterations", 1, Range::between(1, 1000)));
+    pc.finish();
+    scene.position_correction = c;
+  }
+  if (root.has("obstacles")) {
+    const Json& list = root.raw("obstacles");
+    if (!list.is_array()) throw InputError("obstacles: must be an array");
+    for (size_t i = 0; i < list.size(); ++i) {
+      scene.obstacles.push_back(parse_obstacle(list[i], element_path("obstacles", i)));
+    }
+  }
+  if (root.has("render")) scene.render = root.raw("render");
+  root.accept("render");
+  root.accept("gravity");
+  root.accept("air_damping");
+  root.accept("wind");
+  root.accept("position_correction");
+  root.accept("obstacles");
+  root.accept("implicit");
+  root.finish();
+  return scene;
+}
+
+}  // namespace tissu

@@ -1,0 +1,206 @@
+// The tissu program end to end: exit codes, reports, OBJ output, nothing written on bad
+// input, interrupt handling.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+struct Result {
+  int exit_code;
+  std::string err;
+};
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("tissu_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write_scene(const std::string& name, const Json& scene) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << scene.dump(2);
+    return path;
+  }
+
+  // Runs tissu with `args`; stderr captured.
+  Result run(const std::string& args) {
+    const std::string err_file = (dir_ / "stderr.txt").string();
+    const std::string command = std::string(TISSU_BINARY) + " " + args + " 2>" + err_file;
+    const int status = std::system(command.c_str());
+    std::ifstream in(err_file);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+  }
+
+  static Json small_scene() {
+    return Json::parse(R"({
+      "name": "small", "dt": 1e-4, "steps": 300, "integrator": "symplectic_euler",
+      "cloth": {"mesh": {"generate": "rectangle", "size": [0.4, 0.3], "triangles": 150,
+                         "irregular": true, "seed": 2},
+                "material": "silk",
+                "transform": {"rotate": {"axis": [1, 0, 0], "degrees": 90}},
+                "pins": [{"box": {"min": [-1, -1, 0.149], "max": [1, 1, 1]}}]},
+      "gravity": [0, 0, -9.81], "air_damping": 0.2
+    })");
+  }
+
+  Json read_json(const fs::path& p) {
+    std::ifstream in(p);
+    return Json::parse(in);
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(Cli, HelpListsEveryOption) {
+  const std::string out = (dir_ / "help.txt").string();
+  ASSERT_EQ(std::system((std::string(TISSU_BINARY) + " run --help > " + out).c_str()), 0);
+  std::ifstream in(out);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  for (const char* option : {"--out", "--set", "--obj-every", "--report"}) {
+    EXPECT_NE(ss.str().find(option), std::string::npos) << option;
+  }
+}
+
+TEST_F(Cli, RunWritesReportAndObjFiles) {
+  const std::string scene = write_scene("s.json", small_scene());
+  const fs::path out = dir_ / "out";
+  const Result r = run("run " + scene + " --out " + out.string() + " --obj-every 100 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json report = read_json(out / "report.json");
+  EXPECT_EQ(report["scene"], "small");
+  EXPECT_EQ(report["status"], "ok");
+  EXPECT_EQ(report["steps_requested"], 300);
+  EXPECT_EQ(report["steps_done"], 300);
+  EXPECT_EQ(report["integrator"], "symplectic_euler");
+  EXPECT_TRUE(report["divergence"].is_null());
+  EXPECT_GT(report["triangles"].get<int>(), 100);
+  EXPECT_GT(report["ms_per_step"].get<double>(), 0.0);
+  ASSERT_GE(report["frames"].size(), 2u);
+  const Json& last = report["frames"].back();
+  EXPECT_EQ(last["step"], 300);
+  EXPECT_GT(last["kinetic_energy"].get<double>(), 0.0);
+  EXPECT_GT(last["elastic_energy"].get<double>(), 0.0);
+  EXPECT_TRUE(last["min_clearance"].is_null()) << "no obstacles, no clearance";
+  for (const char* f : {"frame_000000.obj", "frame_000100.obj", "frame_000200.obj",
+                        "frame_000300.obj", "final.obj"}) {
+    EXPECT_TRUE(fs::exists(out / "obj" / f)) << f;
+  }
+  // The OBJ keeps the vertex count and writes rest (u, v) as texture coordinates.
+  std::ifstream obj(out / "obj" / "final.obj");
+  int v = 0, vt = 0, f = 0;
+  for (std::string line; std::getline(obj, line);) {
+    if (line.rfind("v ", 0) == 0) ++v;
+    if (line.rfind("vt ", 0) == 0) ++vt;
+    if (line.rfind("f ", 0) == 0) ++f;
+  }
+  EXPECT_EQ(v, report["vertices"].get<int>());
+  EXPECT_EQ(vt, v);
+  EXPECT_EQ(f, report["triangles"].get<int>());
+}
+
+TEST_F(Cli, BadInputExitsTwoAndWritesNothing) {
+  Json scene = small_scene();
+  scene["cloth"]["material"] = Json::parse(
+      R"({"density": -1, "stiffness": {"weft": 100, "warp": 100, "shear": 10}})");
+  const std::string path = write_scene("bad.json", scene);
+  const fs::path out = dir_ / "out";
+  const Result r = run("run " + path + " --out " + out.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "tissu: " + path + ": cloth.material.density: must be > 0, got -1\n");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(Cli, BadOverrideAndUsageExitTwo) {
+  const std::string path = write_scene("s.json", small_scene());
+  const fs::path out = dir_ / "out";
+  Result r = run("run " + path + " --out " + out.string() + " --set cloth.materiall=silk");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--set cloth.materiall=silk: cloth.materiall: unknown key"),
+            std::string::npos)
+      << r.err;
+  r = run("run " + path + " --frobnicate");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "tissu: tissu run: unknown option --frobnicate (see tissu run --help)\n");
+  r = run("run");
+  EXPECT_EQ(r.exit_code, 2);
+  r = run("fly " + path);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(Cli, OutputDirectoryThatCannotBeCreated) {
+  const std::string path = write_scene("s.json", small_scene());
+  std::ofstream(dir_ / "file") << "x";
+  const Result r = run("run " + path + " --out " + (dir_ / "file" / "sub").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("cannot create output directory"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, DivergenceExitsThreeWithStepAndVertex) {
+  Json scene = small_scene();
+  scene["integrator"] = "explicit_euler";
+  scene["dt"] = 2e-3;  // far beyond the explicit stability limit
+  scene["cloth"]["transform"]["scale"] = 1.05;
+  const std::string path = write_scene("d.json", scene);
+  const fs::path out = dir_ / "out";
+  const Result r = run("run " + path + " --out " + out.string() + " --obj-every 1000 --quiet");
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("diverged at step"), std::string::npos) << r.err;
+  const Json report = read_json(out / "report.json");
+  EXPECT_EQ(report["status"], "diverged");
+  EXPECT_GE(report["divergence"]["step"].get<int>(), 1);
+  EXPECT_GE(report["divergence"]["vertex"].get<int>(), 0);
+  EXPECT_LT(report["steps_done"].get<int>(), 300);
+  EXPECT_TRUE(fs::exists(out / "obj" / "final.obj"));
+}
+
+TEST_F(Cli, SigintStopsTheRunAndReportsInterrupted) {
+  Json scene = small_scene();
+  scene["steps"] = 100000000;
+  const std::string path = write_scene("long.json", scene);
+  const fs::path out = dir_ / "out";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string out_arg = out.string();
+    execl(TISSU_BINARY, TISSU_BINARY, "run", path.c_str(), "--out", out_arg.c_str(), "--quiet",
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until the run has started (its output directory exists), then interrupt it.
+  for (int i = 0; i < 600 && !fs::exists(out); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const Json report = read_json(out / "report.json");
+  EXPECT_EQ(report["status"], "interrupted");
+  EXPECT_GT(report["steps_done"].get<long long>(), 0);
+  EXPECT_LT(report["steps_done"].get<long long>(), 100000000);
+}
+
+}  // namespace

@@ -1,0 +1,223 @@
+// Scene validation: one test per class of bad input, each checking the message names the
+// JSON path and the problem. And the parts of a valid scene that are built.
+#include "scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+namespace tissu {
+namespace {
+
+const char* kValid = R"({
+  "name": "t", "dt": 1e-4, "steps": 10, "integrator": "symplectic_euler",
+  "cloth": {"mesh": {"generate": "rectangle", "size": [0.5, 0.4], "triangles": 200,
+                     "irregular": true, "seed": 3},
+            "material": "cotton"}
+})";
+
+Json valid() { return Json::parse(kValid); }
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+std::string parse_error(const Json& doc) {
+  return error_of([&] { parse_scene(doc, ""); });
+}
+
+std::string build_error(const Json& doc) {
+  return error_of([&] { build_simulation(parse_scene(doc, "")); });
+}
+
+TEST(SceneValidation, ValidSceneParsesAndBuilds) {
+  const Scene s = parse_scene(valid(), "");
+  EXPECT_EQ(s.name, "t");
+  EXPECT_EQ(s.steps, 10);
+  EXPECT_FALSE(s.gravity.has_value()) << "no gravity key, no gravity";
+  EXPECT_FALSE(s.air_damping.has_value());
+  EXPECT_FALSE(s.wind.has_value());
+  EXPECT_FALSE(s.position_correction.has_value());
+  const Simulation sim = build_simulation(s);
+  EXPECT_NEAR(sim.model.num_triangles(), 200, 20);
+  double area = 0.0;
+  for (const TriangleRest& r : sim.model.rest) area += r.area;
+  EXPECT_NEAR(area, 0.2, 1e-12);
+}
+
+TEST(SceneValidation, OutOfRangeValueNamesPath) {
+  Json doc = valid();
+  doc["cloth"]["material"] = {{"density", -1},
+                              {"stiffness", {{"weft", 100}, {"warp", 100}, {"shear", 10}}}};
+  EXPECT_EQ(parse_error(doc), "cloth.material.density: must be > 0, got -1");
+}
+
+TEST(SceneValidation, WrongType) {
+  Json doc = valid();
+  doc["dt"] = "small";
+  EXPECT_EQ(parse_error(doc), "dt: must be a number, got a string");
+}
+
+TEST(SceneValidation, NonPositiveTimeStep) {
+  Json doc = valid();
+  doc["dt"] = 0;
+  EXPECT_EQ(parse_error(doc), "dt: must be in (0, 1], got 0");
+}
+
+TEST(SceneValidation, UnknownKeySuggestsClosest) {
+  Json doc = valid();
+  doc["gravty"] = {0, 0, -9.81};
+  EXPECT_EQ(parse_error(doc), "gravty: unknown key (did you mean \"gravity\"?)");
+  doc = valid();
+  doc["cloth"]["mesh"]["triangels"] = 5;
+  doc["cloth"]["mesh"].erase("triangles");
+  EXPECT_EQ(parse_error(doc), "cloth.mesh.triangles: is required");
+}
+
+TEST(SceneValidation, MissingRequiredKey) {
+  Json doc = valid();
+  doc["cloth"].erase("mesh");
+  EXPECT_EQ(parse_error(doc), "cloth.mesh: is required");
+}
+
+TEST(SceneValidation, UnknownPresetAndIntegrator) {
+  Json doc = valid();
+  doc["cloth"]["material"] = "coton";
+  EXPECT_EQ(parse_error(doc),
+            "cloth.material: unknown preset \"coton\" (did you mean \"cotton\"?); expected one "
+            "of cotton, linen, silk, or an object");
+  doc = valid();
+  doc["integrator"] = "rk4";
+  EXPECT_EQ(parse_error(doc).substr(0, 34), "integrator: unknown value \"rk4\"; e");
+}
+
+TEST(SceneValidation, StepsAndDurationExclusive) {
+  Json doc = valid();
+  doc["duration"] = 1.0;
+  EXPECT_EQ(parse_error(doc), "steps: give exactly one of \"steps\" or \"duration\"");
+}
+
+TEST(SceneValidation, AbsurdTriangleCount) {
+  Json doc = valid();
+  doc["cloth"]["mesh"]["triangles"] = 1e12;
+  EXPECT_EQ(parse_error(doc), "cloth.mesh.triangles: must be in [2, 4000000], got 1000000000000");
+}
+
+TEST(SceneValidation, ObstacleWithNonPositiveSize) {
+  Json doc = valid();
+  doc["obstacles"] = Json::parse(R"([{"sphere": {"center": [0, 0, 0], "radius": 0}}])");
+  EXPECT_EQ(parse_error(doc), "obstacles[0].sphere.radius: must be > 0, got 0");
+  doc["obstacles"] = Json::parse(R"([{"cylinder": {"center": [0, 0, 0], "axis": [0, 0, 0],
+                                                   "radius": 1, "length": 1}}])");
+  EXPECT_EQ(parse_error(doc), "obstacles[0].cylinder.axis: must not be the zero vector");
+  doc["obstacles"] = Json::parse(R"([{"cube": {}}])");
+  EXPECT_EQ(parse_error(doc), "obstacles[0].cube: unknown obstacle; expected sphere, cylinder or plane");
+}
+
+TEST(SceneValidation, NonFiniteValues) {
+  Json doc = valid();
+  doc["gravity"] = {0, 0, std::nan("")};  // from --set or a program; a file cannot hold NaN
+  EXPECT_EQ(parse_error(doc), "gravity[2]: must be finite, got NaN");
+  doc = valid();
+  doc["air_damping"] = -INFINITY;
+  EXPECT_EQ(parse_error(doc), "air_damping: must be finite, got -Infinity");
+}
+
+TEST(SceneValidation, PinsOutOfRangeOrSelectingNothing) {
+  Json doc = valid();
+  doc["cloth"]["pins"] = Json::parse(R"([{"vertices": [0, 100000]}])");
+  const std::string e = build_error(doc);
+  EXPECT_EQ(e.substr(0, 55), "cloth.pins[0].vertices[1]: vertex 100000 out of range (");
+  doc["cloth"]["pins"] = Json::parse(R"([{"box": {"min": [5, 5, 5], "max": [6, 6, 6]}}])");
+  EXPECT_EQ(build_error(doc), "cloth.pins[0].box: selects no vertex");
+}
+
+TEST(SceneValidation, NonPositiveDefiniteStiffness) {
+  Json doc = valid();
+  doc["cloth"]["material"] = Json::parse(
+      R"({"density": 0.1, "stiffness": {"weft": 100, "warp": 100, "coupling": 150, "shear": 10}})");
+  EXPECT_EQ(parse_error(doc).substr(0, 58),
+            "cloth.material.stiffness.coupling: must satisfy coupling^2");
+}
+
+class SceneFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("tissu_scene_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  std::filesystem::path dir_;
+};
+
+TEST_F(SceneFiles, SyntaxErrorNamesLineAndColumn) {
+  const std::string path = write("bad.json", "{\n  \"name\": \"x\",\n  \"dt\": ,\n}\n");
+  const std::string e = error_of([&] { load_scene(path); });
+  EXPECT_EQ(e.substr(0, path.size() + 20), path + ":3:9: not valid JSON");
+}
+
+TEST_F(SceneFiles, TruncatedFile) {
+  const std::string path = write("cut.json", std::string(kValid).substr(0, 80));
+  EXPECT_NE(error_of([&] { load_scene(path); }).find(": not valid JSON"), std::string::npos);
+}
+
+TEST_F(SceneFiles, CommentsAreAllowed) {
+  const std::string path = write("c.json", std::string("// a comment\n") + kValid);
+  EXPECT_EQ(load_scene(path).name, "t");
+}
+
+TEST_F(SceneFiles, MissingFile) {
+  EXPECT_EQ(error_of([&] { load_scene((dir_ / "nope.json").string()); }),
+            (dir_ / "nope.json").string() + ": cannot open scene file");
+}
+
+TEST_F(SceneFiles, ValidationErrorsNameTheFile) {
+  Json doc = valid();
+  doc["dt"] = -1;
+  const std::string path = write("neg.json", doc.dump());
+  EXPECT_EQ(error_of([&] { load_scene(path); }), path + ": dt: must be in (0, 1], got -1");
+}
+
+TEST_F(SceneFiles, OverridesAreAppliedAndValidated) {
+  const std::string path = write("ok.json", kValid);
+  const Scene s = load_scene(path, {"integrator=explicit_euler", "cloth.material=silk",
+                                    "dt=2e-5", "gravity=[0,0,-1]"});
+  EXPECT_EQ(s.integrator, Integrator::ExplicitEuler);
+  EXPECT_EQ(s.material.name, "silk");
+  EXPECT_DOUBLE_EQ(s.dt, 2e-5);
+  EXPECT_EQ(*s.gravity, Vec3(0, 0, -1));
+  EXPECT_EQ(error_of([&] { load_scene(path, {"dt=-3"}); }),
+            "--set dt=-3: dt: must be in (0, 1], got -3");
+  EXPECT_EQ(error_of([&] { load_scene(path, {"cloth.mesh.trianglez=4"}); }),
+            "--set cloth.mesh.trianglez=4: cloth.mesh.trianglez: unknown key (did you mean "
+            "\"cloth.mesh.triangles\"?)");
+  EXPECT_EQ(error_of([&] { load_scene(path, {"dt"}); }),
+            "--set dt: expected KEY=VALUE, e.g. --set dt=1e-4");
+  EXPECT_EQ(error_of([&] { load_scene(path, {"name.first=3"}); }),
+            "--set name.first=3: name.first is inside a value that is not an object");
+}
+
+TEST_F(SceneFiles, MeshFileRelativeToScene) {
+  Json doc = valid();
+  doc["cloth"]["mesh"] = {{"file", "meshes/missing.obj"}};
+  const std::string path = write("m.json", doc.dump());
+  const Scene s = load_scene(path);
+  EXPECT_EQ(s.mesh.file, (dir_ / "meshes/missing.obj").string());
+  EXPECT_NE(error_of([&] { build_simulation(s); }).find("missing.obj"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tissu
