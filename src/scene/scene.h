@@ -31,6 +31,13 @@ struct ClothTransform {
   Vec3 translate = Vec3::Zero();   // m
 };
 
+// A crumpled random start: a smooth random displacement field of the given amplitude
+// (sum of random plane waves in (u, v) with wavelengths 0.1-0.5 m) added to the positions.
+struct CrumpleSpec {
+  double amplitude = 0.0;  // m
+  uint64_t seed = 1;
+};
+
 struct PinSpec {
   std::string path;                     // JSON path, for errors
   std::vector<long long> vertices;
@@ -49,6 +56,7 @@ struct Scene {
   MeshSpec mesh;
   ClothTransform transform;
   Vec3 initial_velocity = Vec3::Zero();  // m/s
+  std::optional<CrumpleSpec> crumple;
   Material material;
   std::vector<PinSpec> pins;
 

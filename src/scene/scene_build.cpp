@@ -4,6 +4,7 @@
 
 #include "mesh/generate.h"
 #include "mesh/load.h"
+#include "mesh/random.h"
 #include "physics/bending.h"
 #include "scene/scene.h"
 
@@ -59,6 +60,33 @@ void apply_pins(const std::vector<PinSpec>& pins, const Vec3List& x, std::vector
   }
 }
 
+// Smooth random displacement: 8 plane waves in (u, v) with random directions, wavelengths
+// in [0.1, 0.5] m, phases and displacement directions; scaled so the largest possible
+// displacement is `amplitude`.
+void apply_crumple(const CrumpleSpec& spec, const Vec2List& uv, Vec3List& x) {
+  constexpr int kWaves = 8;
+  PortableRandom random(spec.seed);
+  struct Wave {
+    Vec2 k;
+    double phase;
+    Vec3 direction;
+  };
+  std::vector<Wave> waves;
+  for (int i = 0; i < kWaves; ++i) {
+    const double angle = random.uniform(0.0, 2.0 * M_PI);
+    const double wavelength = random.uniform(0.1, 0.5);
+    const double phase = random.uniform(0.0, 2.0 * M_PI);
+    Vec3 d(random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-1, 1));
+    waves.push_back({Vec2(std::cos(angle), std::sin(angle)) * (2.0 * M_PI / wavelength), phase,
+                     d.normalized()});
+  }
+  for (size_t i = 0; i < x.size(); ++i) {
+    Vec3 offset = Vec3::Zero();
+    for (const Wave& w : waves) offset += std::sin(w.k.dot(uv[i]) + w.phase) * w.direction;
+    x[i] += (spec.amplitude / kWaves) * offset;
+  }
+}
+
 }  // namespace
 
 Simulation build_simulation(const Scene& scene) {
@@ -80,6 +108,7 @@ Simulation build_simulation(const Scene& scene) {
 
   State& state = sim.state;
   state.x = std::move(mesh.positions);
+  if (scene.crumple) apply_crumple(*scene.crumple, model.rest_uv, state.x);
   apply_transform(scene.transform, state.x);
   model.pinned.assign(state.x.size(), 0);
   apply_pins(scene.pins, state.x, model.pinned);

@@ -256,6 +256,13 @@ Scene parse_scene(const Json& doc, const std::string& file) {
   scene.mesh = parse_mesh(cloth.object("mesh"), file);
   if (cloth.has("transform")) scene.transform = parse_transform(cloth.object("transform"));
   scene.initial_velocity = cloth.vec3("velocity", Vec3::Zero());
+  if (cloth.has("crumple")) {
+    JsonReader c = cloth.object("crumple");
+    scene.crumple = CrumpleSpec{c.number("amplitude", Range::positive()),
+                                static_cast<uint64_t>(c.integer("seed", 1, Range::between(0, 9e15)))};
+    c.finish();
+  }
+  cloth.accept("crumple");
   scene.material = parse_material(cloth);
   scene.pins = parse_pins(cloth);
   cloth.finish();
