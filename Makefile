@@ -17,7 +17,7 @@ build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
 demo: build
-	./$(BUILD)/tissu run scenes/demo.json --out out/demo
+	./$(BUILD)/tissu render scenes/demo.json --out out --stills 4
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

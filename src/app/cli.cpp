@@ -26,11 +26,13 @@ const char* kRunHelp =
 
 const char* kRenderHelp =
     "usage: tissu render SCENE.json [--out DIR] [--set KEY=VALUE]... [--png] [--no-mp4]\n"
-    "                    [--frames N] [--obj-every N] [--report FILE] [--quiet]\n"
-    "Simulates a scene, renders every frame off screen and writes DIR/<name>.mp4.\n"
+    "                    [--frames N] [--stills N] [--obj-every N] [--report FILE] [--quiet]\n"
+    "Simulates a scene, renders every frame off screen and writes DIR/<name>.mp4\n"
+    "(H.264, yuv420p, fps and slow motion from the scene's render block).\n"
     "  --png              also write DIR/png/frame_NNNNNN.png for every frame\n"
     "  --no-mp4           do not write the MP4\n"
     "  --frames N         stop after N frames\n"
+    "  --stills N         write N PNG stills spread over the run to DIR/stills/\n"
     "  (other options as for tissu run)\n"
     "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 130 interrupted.\n";
 
@@ -73,6 +75,8 @@ bool parse_scene_command(const std::vector<std::string>& args, bool render,
       out.png = true;
     } else if (render && a == "--no-mp4") {
       out.mp4 = false;
+    } else if (render && a == "--stills") {
+      out.stills = static_cast<int>(parse_count("--stills", value(), 1));
     } else if (render && a == "--frames") {
       out.max_frames = parse_count("--frames", value(), 1);
     } else if (!a.empty() && a[0] == '-') {

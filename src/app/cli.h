@@ -18,6 +18,7 @@ struct SceneCommandOptions {
   bool png = false;
   bool mp4 = true;
   long long max_frames = -1;
+  int stills = 0;  // PNG stills spread over the run
 };
 
 // Parses `args` (after the subcommand name). `render` enables --png, --no-mp4, --frames.

@@ -5,6 +5,7 @@
 
 #include "app/commands.h"
 #include "core/error.h"
+#include "render/render_error.h"
 
 namespace {
 
@@ -12,6 +13,7 @@ const char* kHelp =
     "usage: tissu <command> [options]\n"
     "Commands:\n"
     "  run SCENE.json      simulate a scene; write a report and OBJ snapshots\n"
+    "  render SCENE.json   simulate and render a scene to MP4 (and PNG) files\n"
     "  help                show this help\n"
     "Run `tissu <command> --help` for the options of a command.\n";
 
@@ -27,11 +29,15 @@ int main(int argc, char** argv) {
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   try {
     if (args[0] == "run") return command_run(rest);
+    if (args[0] == "render") return command_render(rest);
     std::cerr << "tissu: unknown command \"" << args[0] << "\" (see tissu --help)\n";
     return kExitBadInput;
   } catch (const InputError& e) {
     std::cerr << "tissu: " << e.what() << "\n";
     return kExitBadInput;
+  } catch (const RenderError& e) {
+    std::cerr << "tissu: renderer: " << e.what() << "\n";
+    return kExitOutputError;
   } catch (const OutputError& e) {
     std::cerr << "tissu: " << e.what() << "\n";
     return kExitOutputError;

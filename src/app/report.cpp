@@ -45,7 +45,8 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
   }
   const StageTimes& t = result.times;
   report["wall_time_s"] = {{"simulate", t.simulate}, {"render", t.render},
-                           {"readback", t.readback}, {"encode", t.encode}, {"total", t.total}};
+                           {"readback", t.readback}, {"encode", t.encode}, {"encode_wait", t.encode_wait},
+                           {"total", t.total}};
   report["ms_per_step"] = result.steps_done > 0 ? 1e3 * t.simulate / result.steps_done : 0.0;
   if (model.integrator == Integrator::BackwardEuler || model.integrator == Integrator::Bdf2) {
     report["newton_iterations"] = result.newton_iterations;

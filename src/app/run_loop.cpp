@@ -45,7 +45,7 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
   State& state = sim.state;
   Workspace ws;
   RunResult result;
-  ProgressBar progress = ProgressBar::on_stderr("simulate", scene.steps);
+  ProgressBar progress = ProgressBar::on_stderr(options.progress_label, scene.steps);
   Vec3List last_frame_x = state.x;  // final.obj falls back to it after a divergence
 
   auto emit_frame = [&] {
@@ -62,7 +62,7 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
       write_obj(obj_frame_path(options.obj_dir, s), state.x, model.rest_uv, model.triangles);
     }
     if (options.progress) progress.update(s);
-    if (last) break;
+    if (last || (sink && !sink->wants_more())) break;
     if (interrupt_requested()) {
       result.status = RunStatus::Interrupted;
       break;

@@ -20,6 +20,8 @@ class FrameSink {
  public:
   virtual ~FrameSink() = default;
   virtual void frame(const Model& model, const State& state, const FrameStats& stats) = 0;
+  // False once the sink has all the frames it wants: the run then stops early.
+  virtual bool wants_more() const { return true; }
 };
 
 // Wall time spent per stage, s.
@@ -27,7 +29,8 @@ struct StageTimes {
   double simulate = 0.0;
   double render = 0.0;
   double readback = 0.0;
-  double encode = 0.0;
+  double encode = 0.0;       // encoder worker time (overlaps the other stages)
+  double encode_wait = 0.0;  // time the loop waited for the encoder queue
   double total = 0.0;
 };
 
@@ -36,6 +39,7 @@ struct RunOptions {
   int obj_every = 0;          // steps between OBJ snapshots; 0 = only final.obj (when obj_dir set)
   std::string obj_dir;        // "" = no OBJ output
   bool progress = true;       // progress line on stderr
+  std::string progress_label = "simulate";
 };
 
 struct RunResult {

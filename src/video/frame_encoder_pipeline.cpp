@@ -1,5 +1,7 @@
 #include "video/frame_encoder_pipeline.h"
 
+#include <chrono>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -56,9 +58,13 @@ void FrameEncoderPipeline::work() {
       job = std::move(queue_.front());
       queue_.pop_front();
     }
+    const auto start = std::chrono::steady_clock::now();
+    double png_seconds = 0.0;
     try {
       if (video_) video_->write_frame(job.frame);
+      const auto png_start = std::chrono::steady_clock::now();
       if (!job.png_path.empty()) write_png(job.png_path, job.frame);
+      png_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - png_start).count();
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex_);
       error_ = std::current_exception();
@@ -66,7 +72,10 @@ void FrameEncoderPipeline::work() {
       space_free_.notify_all();
       return;
     }
+    const double busy = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::lock_guard<std::mutex> lock(mutex_);
+    encode_seconds_ += busy - png_seconds;
+    png_seconds_ += png_seconds;
     ++frames_done_;
     if (spare_pixels_.size() <= capacity_) spare_pixels_.push_back(std::move(job.frame.rgb));
     space_free_.notify_all();
@@ -114,6 +123,16 @@ void FrameEncoderPipeline::abort() noexcept {
 long long FrameEncoderPipeline::frames_done() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return frames_done_;
+}
+
+double FrameEncoderPipeline::encode_seconds() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return encode_seconds_;
+}
+
+double FrameEncoderPipeline::png_seconds() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return png_seconds_;
 }
 
 }  // namespace tissu

@@ -45,6 +45,8 @@ class FrameEncoderPipeline {
   void abort() noexcept;
 
   long long frames_done() const;  // frames the worker has completed
+  double encode_seconds() const;  // worker time spent converting and encoding video, s
+  double png_seconds() const;     // worker time spent writing PNG files, s
 
  private:
   struct Job {
@@ -67,6 +69,8 @@ class FrameEncoderPipeline {
   bool no_more_jobs_ = false;
   bool closed_ = false;  // finish() or abort() ran
   long long frames_done_ = 0;
+  double encode_seconds_ = 0.0;
+  double png_seconds_ = 0.0;
   std::thread worker_;
 };
 

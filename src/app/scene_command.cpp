@@ -1,0 +1,118 @@
+// tissu run and tissu render: load and validate everything first (bad input writes
+// nothing), then simulate (and render), then always write the report.
+#include <filesystem>
+#include <iostream>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "app/render_sink.h"
+#include "app/report.h"
+#include "app/run_loop.h"
+#include "app/signals.h"
+
+namespace tissu {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+int exit_code_of(const RunResult& result) {
+  switch (result.status) {
+    case RunStatus::Ok: return kExitOk;
+    case RunStatus::Diverged: return kExitDiverged;
+    case RunStatus::Interrupted: return kExitInterrupted;
+  }
+  return kExitOk;
+}
+
+void print_summary(const Scene& scene, const RunResult& result) {
+  if (result.divergence) {
+    const Divergence& d = *result.divergence;
+    std::cerr << "tissu: " << scene.name << ": diverged at step " << d.step << " (t = " << d.time
+              << " s), vertex " << d.vertex << ": " << d.reason << "\n";
+  } else if (result.status == RunStatus::Interrupted) {
+    std::cerr << "tissu: " << scene.name << ": interrupted after " << result.steps_done
+              << " steps\n";
+  }
+}
+
+std::string parent_dir(const std::string& path) {
+  const std::string parent = fs::path(path).parent_path().string();
+  return parent.empty() ? "." : parent;
+}
+
+// Frame indices of `count` stills spread evenly over `frames` frames (last one included).
+std::vector<long long> still_frames(long long frames, int count) {
+  std::vector<long long> out;
+  for (int i = 1; i <= count; ++i) out.push_back((frames - 1) * i / count);
+  return out;
+}
+
+int run_scene(const std::vector<std::string>& args, bool render) {
+  SceneCommandOptions options;
+  if (!parse_scene_command(args, render, options)) return kExitOk;
+  const Scene scene = load_scene(options.scene_file, options.overrides);
+  const RenderSettings settings = render_settings_of(scene);
+  Simulation sim = build_simulation(scene);
+
+  RunOptions run;
+  run.frame_every = steps_per_frame(scene.dt, frames_per_simulated_second(settings));
+  run.progress = !options.quiet;
+  run.progress_label = render ? "render" : "simulate";
+
+  std::unique_ptr<RenderSink> sink;
+  RenderOutputs outputs;
+  if (render) {
+    const long long frames = scene.steps / run.frame_every + 1;
+    outputs.max_frames = options.max_frames;
+    const long long shown = options.max_frames > 0 ? std::min(frames, options.max_frames) : frames;
+    if (options.mp4) outputs.mp4_path = (fs::path(options.out_dir) / (scene.name + ".mp4")).string();
+    if (options.png) outputs.png_dir = (fs::path(options.out_dir) / "png").string();
+    if (options.stills > 0) {
+      outputs.stills_dir = (fs::path(options.out_dir) / "stills").string();
+      outputs.still_frames = still_frames(shown, options.stills);
+    }
+  }
+
+  // Output locations are checked before anything is written.
+  prepare_output_dir(options.out_dir);
+  prepare_output_dir(parent_dir(options.report_path));
+  if (options.obj_every > 0) {
+    run.obj_every = options.obj_every;
+    run.obj_dir = (fs::path(options.out_dir) / "obj").string();
+    prepare_output_dir(run.obj_dir);
+  }
+  if (!outputs.png_dir.empty()) prepare_output_dir(outputs.png_dir);
+  if (!outputs.stills_dir.empty()) prepare_output_dir(outputs.stills_dir);
+  if (render) sink = std::make_unique<RenderSink>(settings, outputs);
+
+  install_interrupt_handlers();
+  RunResult result;
+  try {
+    result = run_simulation(scene, sim, run, sink.get());
+    if (sink) {
+      sink->finish();  // the video plays up to the last frame, also after a divergence
+      sink->add_times(result.times);
+    }
+  } catch (...) {
+    if (sink) sink->abort();
+    throw;
+  }
+  write_text_file(options.report_path, make_report(scene, sim.model, result).dump(1) + "\n");
+  print_summary(scene, result);
+  if (!options.quiet) {
+    if (!outputs.mp4_path.empty()) std::cerr << "tissu: video: " << outputs.mp4_path << "\n";
+    if (!outputs.stills_dir.empty()) std::cerr << "tissu: stills: " << outputs.stills_dir << "/\n";
+    if (!outputs.png_dir.empty()) std::cerr << "tissu: frames: " << outputs.png_dir << "/\n";
+    std::cerr << "tissu: report: " << options.report_path << "\n";
+  }
+  return exit_code_of(result);
+}
+
+}  // namespace
+
+int command_run(const std::vector<std::string>& args) { return run_scene(args, false); }
+
+int command_render(const std::vector<std::string>& args) { return run_scene(args, true); }
+
+}  // namespace tissu
