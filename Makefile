@@ -5,7 +5,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: deps build demo test bench sanitize clean
+.PHONY: deps build demo test bench golden sanitize clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -21,6 +21,10 @@ demo: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# Rewrites the golden frames of tests/golden/ on purpose (review the new PNGs, then commit).
+golden: build
+	cd $(BUILD) && TISSU_UPDATE_GOLDEN=1 ctest -R golden_test --output-on-failure
 
 bench: build
 	./$(BUILD)/bench/tissu_bench

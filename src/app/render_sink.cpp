@@ -13,11 +13,22 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Cloth resting on an obstacle lies exactly on its surface, where the tessellations of
-// both would cut through each other: obstacles are drawn this much inside their surface.
-constexpr double kDrawInset = 0.01;  // fraction of the radius; m for planes: 2 mm
+// Cloth resting on an obstacle has its vertices on the surface and its flat triangles
+// inside it (by the sagitta L^2 / (8 R) of an edge of length L): drawn at full size the
+// obstacle would show through. Obstacles are drawn inset by twice that sagitta plus 0.5%.
+double draw_inset(double radius, double edge_length) {
+  return std::min(0.2 * radius, 0.005 * radius + edge_length * edge_length / (4.0 * radius));
+}
 
-ObstacleShape shape_of(const Obstacle& ob, double t) {
+double mean_edge_length(const Model& model, const Vec3List& x) {
+  double sum = 0.0;
+  for (const Tri& t : model.triangles) {
+    sum += (x[t[0]] - x[t[1]]).norm() + (x[t[1]] - x[t[2]]).norm() + (x[t[2]] - x[t[0]]).norm();
+  }
+  return model.triangles.empty() ? 0.0 : sum / (3.0 * model.triangles.size());
+}
+
+ObstacleShape shape_of(const Obstacle& ob, double t, double edge_length) {
   ObstacleShape s;
   switch (ob.kind) {
     case ObstacleKind::Sphere: s.kind = ObstacleShape::Kind::Sphere; break;
@@ -26,9 +37,10 @@ ObstacleShape shape_of(const Obstacle& ob, double t) {
   }
   s.center = ob.center_at(t);
   s.axis = ob.axis;
-  s.radius = ob.radius * (1.0 - kDrawInset);
-  s.half_length = ob.half_length - ob.radius * kDrawInset;
-  if (ob.kind == ObstacleKind::Plane) s.center -= 0.002 * ob.axis;
+  const double inset = draw_inset(ob.radius, edge_length);
+  s.radius = ob.radius - inset;
+  s.half_length = ob.half_length - inset;
+  if (ob.kind == ObstacleKind::Plane) s.center -= 0.002 * ob.axis;  // m
   return s;
 }
 
@@ -69,10 +81,11 @@ void RenderSink::frame(const Model& model, const State& state, const FrameStats&
   if (content_.triangles.empty()) {  // constant parts, once
     content_.triangles = model.triangles;
     content_.rest_uv = model.rest_uv;
+    edge_length_ = mean_edge_length(model, state.x);
   }
   content_.positions = state.x;
   content_.obstacles.clear();
-  for (const Obstacle& ob : model.obstacles) content_.obstacles.push_back(shape_of(ob, state.t));
+  for (const Obstacle& ob : model.obstacles) content_.obstacles.push_back(shape_of(ob, state.t, edge_length_));
   if (settings_.info) {
     content_.overlay_lines =
         info_overlay_lines(integrator_name(model.integrator), model.triangles.size(), stats.time);

@@ -48,6 +48,7 @@ class RenderSink : public FrameSink {
   std::unique_ptr<FrameEncoderPipeline> pipeline_;
   FrameContent content_;
   long long frame_index_ = 0;
+  double edge_length_ = 0.0;  // m, mean cloth edge length at the first frame
   double render_s_ = 0.0, readback_s_ = 0.0, push_wait_s_ = 0.0;
 };
 
