@@ -18,6 +18,7 @@ PACKAGES=(
   libpng-dev             # fast PNG writer
   fonts-dejavu-core      # caption font
   ffmpeg                 # ffprobe, used by tests to check videos decode
+  clang libclang-rt-14-dev  # libFuzzer and sanitizers for scripts/fuzz.sh
 )
 
 missing=()
