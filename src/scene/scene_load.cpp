@@ -24,16 +24,36 @@ std::pair<size_t, size_t> line_column(const std::string& text, size_t byte) {
   return {line, column};
 }
 
-// nlohmann's message without its "[json.exception...] parse error at line L, column C: "
-// prefix.
+// nlohmann's message without its "[json.exception...] " and "parse error at line L,
+// column C: " prefixes.
 std::string parse_reason(const std::string& what) {
   std::string reason = what;
+  const size_t bracket = reason.find("] ");
+  if (reason.rfind("[json.exception", 0) == 0 && bracket != std::string::npos) {
+    reason = reason.substr(bracket + 2);
+  }
   const size_t colon = reason.find(": ");
-  if (reason.rfind("[json.exception", 0) == 0 && colon != std::string::npos) {
+  if (reason.rfind("parse error", 0) == 0 && colon != std::string::npos) {
     reason = reason.substr(colon + 2);
   }
   return reason;
 }
+
+// nlohmann's DOM builder that keeps the byte offset and message of the first error instead
+// of throwing: a number too large for a double ("1e999") is an out_of_range exception that
+// carries no position, unlike syntax errors.
+class LocatingParser : public nlohmann::detail::json_sax_dom_parser<Json> {
+ public:
+  explicit LocatingParser(Json& root) : json_sax_dom_parser(root, /*allow_exceptions=*/false) {}
+  template <class Exception>
+  bool parse_error(std::size_t position, const std::string& /*token*/, const Exception& error) {
+    error_position = position;
+    error_message = error.what();
+    return false;
+  }
+  std::size_t error_position = 0;
+  std::string error_message;
+};
 
 bool is_index(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(c); });
@@ -48,13 +68,16 @@ Json read_scene_json(const std::string& file) {
   buffer << in.rdbuf();
   if (in.bad()) throw InputError(file + ": cannot read scene file");
   const std::string text = buffer.str();
-  try {
-    return Json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-  } catch (const Json::parse_error& e) {
-    const auto [line, column] = line_column(text, e.byte > 0 ? e.byte - 1 : 0);
+  Json doc;
+  LocatingParser parser(doc);
+  if (!Json::sax_parse(text, &parser, Json::input_format_t::json, /*strict=*/true,
+                       /*ignore_comments=*/true)) {
+    const size_t byte = parser.error_position;
+    const auto [line, column] = line_column(text, byte > 0 ? byte - 1 : 0);
     throw InputError(file + ":" + std::to_string(line) + ":" + std::to_string(column) +
-                     ": not valid JSON: " + parse_reason(e.what()));
+                     ": not valid JSON: " + parse_reason(parser.error_message));
   }
+  return doc;
 }
 
 void apply_override(Json& doc, const std::string& assignment) {
@@ -67,6 +90,8 @@ void apply_override(Json& doc, const std::string& assignment) {
   Json value;
   try {
     value = Json::parse(text);
+  } catch (const Json::out_of_range&) {
+    throw InputError("--set " + assignment + ": " + text + " is out of the range of a double");
   } catch (const Json::parse_error&) {
     value = text;  // not JSON: a string
   }
