@@ -109,7 +109,8 @@ void apply_override(Json& doc, const std::string& assignment) {
     const bool last = i + 1 == parts.size();
     walked += (walked.empty() ? "" : ".") + part;
     if (node->is_array()) {
-      if (!is_index(part) || std::stoull(part) >= node->size()) {
+      // At most 18 digits: std::stoull would throw on an index beyond 2^64.
+      if (!is_index(part) || part.size() > 18 || std::stoull(part) >= node->size()) {
         throw InputError("--set " + assignment + ": " + walked + " is not an element of an "
                          "array of " + std::to_string(node->size()));
       }
