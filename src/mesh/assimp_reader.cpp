@@ -22,7 +22,8 @@ MeshFileData read_with_assimp(const std::string& path) {
   auto fail = [&](const std::string& problem) { throw InputError(path + ": " + problem); };
   Assimp::Importer importer;
   const aiScene* scene =
-      importer.ReadFile(path, aiProcess_Triangulate | aiProcess_PreTransformVertices);
+      importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
+                                   aiProcess_PreTransformVertices);
   if (!scene || !scene->mRootNode) {
     std::string reason = importer.GetErrorString();
     if (!reason.empty() && reason.back() == '\n') reason.pop_back();
