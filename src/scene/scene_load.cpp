@@ -1,6 +1,7 @@
 // Reading scene files and applying command-line overrides.
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -62,6 +63,10 @@ bool is_index(const std::string& s) {
 }  // namespace
 
 Json read_scene_json(const std::string& file) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(file, ignored)) {
+    throw InputError(file + ": cannot open scene file: is a directory");
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file + ": cannot open scene file");
   std::stringstream buffer;
