@@ -56,6 +56,22 @@ class LocatingParser : public nlohmann::detail::json_sax_dom_parser<Json> {
   std::string error_message;
 };
 
+// ": NaN and Infinity ..." when the JSON error is at a NaN or Infinity literal, which
+// JavaScript and Python write but JSON does not allow.
+std::string non_finite_hint(const std::string& text, size_t byte) {
+  size_t start = std::min(byte > 0 ? byte - 1 : 0, text.size());
+  auto in_word = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; };
+  while (start > 0 && in_word(text[start - 1])) --start;
+  size_t end = start;
+  while (end < text.size() && in_word(text[end])) ++end;
+  std::string word = text.substr(start, end - start);
+  for (char& c : word) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (word == "nan" || word == "inf" || word == "infinity") {
+    return " (NaN and Infinity are not JSON numbers: give a finite number)";
+  }
+  return "";
+}
+
 bool is_index(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(c); });
 }
@@ -80,7 +96,8 @@ Json read_scene_json(const std::string& file) {
     const size_t byte = parser.error_position;
     const auto [line, column] = line_column(text, byte > 0 ? byte - 1 : 0);
     throw InputError(file + ":" + std::to_string(line) + ":" + std::to_string(column) +
-                     ": not valid JSON: " + parse_reason(parser.error_message));
+                     ": not valid JSON: " + parse_reason(parser.error_message) +
+                     non_finite_hint(text, byte));
   }
   return doc;
 }
