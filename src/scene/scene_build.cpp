@@ -12,7 +12,7 @@ namespace tissu {
 
 namespace {
 
-TriMesh make_mesh(const MeshSpec& spec) {
+TriMesh generate_or_load(const MeshSpec& spec) {
   switch (spec.kind) {
     case MeshSpec::Kind::Rectangle:
       return generate_rectangle(spec.size.x(), spec.size.y(), spec.triangles, spec.irregular,
@@ -25,6 +25,17 @@ TriMesh make_mesh(const MeshSpec& spec) {
       return load_mesh(spec.file, spec.uv_scale);
   }
   return {};
+}
+
+// Mesh errors name the scene key they come from.
+TriMesh make_mesh(const MeshSpec& spec) {
+  try {
+    return generate_or_load(spec);
+  } catch (const InputError& e) {
+    throw InputError(std::string(spec.kind == MeshSpec::Kind::File ? "cloth.mesh.file: "
+                                                                   : "cloth.mesh: ") +
+                     e.what());
+  }
 }
 
 void apply_transform(const ClothTransform& t, Vec3List& positions) {
@@ -87,9 +98,7 @@ void apply_crumple(const CrumpleSpec& spec, const Vec2List& uv, Vec3List& x) {
   }
 }
 
-}  // namespace
-
-Simulation build_simulation(const Scene& scene) {
+Simulation build(const Scene& scene) {
   TriMesh mesh = make_mesh(scene.mesh);
   Simulation sim;
   Model& model = sim.model;
@@ -122,6 +131,17 @@ Simulation build_simulation(const Scene& scene) {
     if (model.pinned[i]) state.v[i].setZero();
   }
   return sim;
+}
+
+}  // namespace
+
+Simulation build_simulation(const Scene& scene) {
+  try {
+    return build(scene);
+  } catch (const InputError& e) {
+    if (scene.file.empty()) throw;
+    throw InputError(scene.file + ": " + e.what());  // one line naming the scene file
+  }
 }
 
 }  // namespace tissu
