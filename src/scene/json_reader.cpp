@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 namespace tissu {
@@ -72,7 +73,8 @@ std::string format_number(double value) {
     std::ostringstream t;
     t.precision(p);
     t << value;
-    if (std::stod(t.str()) == value) return t.str();
+    // strtod, not std::stod: "2e+308" (1.7e308 at precision 1) overflows, and stod throws.
+    if (std::strtod(t.str().c_str(), nullptr) == value) return t.str();
   }
   return text;
 }
