@@ -44,6 +44,16 @@ void apply_transform(const ClothTransform& t, Vec3List& positions) {
   for (Vec3& p : positions) p = linear * p + t.translate;
 }
 
+// Huge scales, translations or crumple amplitudes can overflow a position.
+void require_finite(const Vec3List& x, const std::string& key) {
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (!x[i].allFinite()) {
+      throw InputError(key + ": moves vertex " + std::to_string(i) +
+                       " to a non-finite position");
+    }
+  }
+}
+
 void apply_pins(const std::vector<PinSpec>& pins, const Vec3List& x, std::vector<uint8_t>& pinned) {
   const long long n = static_cast<long long>(x.size());
   for (const PinSpec& pin : pins) {
@@ -118,7 +128,9 @@ Simulation build(const Scene& scene) {
   State& state = sim.state;
   state.x = std::move(mesh.positions);
   if (scene.crumple) apply_crumple(*scene.crumple, model.rest_uv, state.x);
+  require_finite(state.x, "cloth.crumple.amplitude");
   apply_transform(scene.transform, state.x);
+  require_finite(state.x, "cloth.transform");
   model.pinned.assign(state.x.size(), 0);
   apply_pins(scene.pins, state.x, model.pinned);
   precompute_rest(model);
