@@ -38,15 +38,27 @@ MeshSpec parse_mesh(JsonReader mesh, const std::string& scene_file) {
     return spec;
   }
   const std::string kind = mesh.choice("generate", {"rectangle", "disk", "sliver_rectangle"});
+  // Lengths from 1 um to 1000 km: beyond, areas and spacings underflow or overflow and the
+  // generators place coincident points or loop over absurd point counts.
+  const Range length = Range::between(1e-6, 1e6);
   if (kind == "disk") {
     spec.kind = MeshSpec::Kind::Disk;
-    spec.radius = mesh.number("radius", Range::positive());
+    spec.radius = mesh.number("radius", length);
   } else {
     spec.kind = kind == "rectangle" ? MeshSpec::Kind::Rectangle : MeshSpec::Kind::Sliver;
-    spec.size = mesh.vec2("size", Range::positive());
+    spec.size = mesh.vec2("size", length);
   }
   // 4 million triangles is about 1 GiB of simulation state: beyond that, refuse.
   spec.triangles = static_cast<int>(mesh.integer("triangles", Range::between(2, 4e6)));
+  // A long thin rectangle needs about one triangle per unit of aspect ratio along its
+  // boundary alone: more than requested would be generated (the generators' work grows
+  // with the aspect ratio, not with the requested count).
+  const double aspect = spec.size.maxCoeff() / spec.size.minCoeff();
+  if (spec.kind != MeshSpec::Kind::Disk && aspect > spec.triangles) {
+    throw InputError(mesh.path_of("size") + ": aspect ratio " + format_number(aspect) +
+                     " needs " + mesh.path_of("triangles") + " >= " + format_number(aspect) +
+                     ", got " + std::to_string(spec.triangles));
+  }
   spec.irregular = mesh.boolean("irregular", true);
   spec.seed = static_cast<uint64_t>(mesh.integer("seed", 1, Range::between(0, 9e15)));
   mesh.finish();

@@ -106,7 +106,7 @@ TEST_F(BadInput, MissingRequiredKey) {
 TEST_F(BadInput, ZeroSizeMesh) {
   Json scene = small_scene();
   scene["cloth"]["mesh"]["size"] = {0.4, 0};
-  EXPECT_BAD_INPUT(run_json(scene), path("scene.json") + ": cloth.mesh.size[1]: must be > 0, got 0");
+  EXPECT_BAD_INPUT(run_json(scene), path("scene.json") + ": cloth.mesh.size[1]: must be in [1e-06, 1000000], got 0");
 }
 
 TEST_F(BadInput, TriangleCountThatWouldNotFitInMemory) {
@@ -114,6 +114,26 @@ TEST_F(BadInput, TriangleCountThatWouldNotFitInMemory) {
   scene["cloth"]["mesh"]["triangles"] = 5e9;
   EXPECT_BAD_INPUT(run_json(scene), path("scene.json") +
                                         ": cloth.mesh.triangles: must be in [2, 4000000], got 5000000000");
+}
+
+TEST_F(BadInput, AbsurdSizesAndTransforms) {
+  Json scene = small_scene();
+  scene["cloth"]["mesh"]["size"] = {1e-9, 1};
+  EXPECT_BAD_INPUT(run_json(scene), path("scene.json") +
+                                        ": cloth.mesh.size[0]: must be in [1e-06, 1000000], got 1e-09");
+  scene["cloth"]["mesh"]["size"] = {1e-3, 10};
+  EXPECT_BAD_INPUT(run_json(scene), path("scene.json") +
+                                        ": cloth.mesh.size: aspect ratio 10000 needs "
+                                        "cloth.mesh.triangles >= 10000, got 100");
+  scene = small_scene();
+  scene["cloth"]["transform"] = {{"scale", 1e300}};
+  scene["cloth"]["crumple"] = {{"amplitude", 1e300}};
+  EXPECT_BAD_INPUT(run_json(scene), path("scene.json") +
+                                        ": cloth.transform: moves vertex 0 to a non-finite position");
+  scene = small_scene();
+  scene["cloth"]["transform"] = {{"translate", {1.7e308, 0, 0}}};
+  EXPECT_BAD_INPUT(run_json(scene), path("scene.json") +
+                                        ": cloth.transform.translate[0]: must be <= 1e+300, got 1.7e+308");
 }
 
 TEST_F(BadInput, TooFewTrianglesForAGenerator) {
