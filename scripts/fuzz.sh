@@ -30,6 +30,9 @@ if [ ! -f "$build/CMakeCache.txt" ]; then
 fi
 cmake --build "$build" -j "${FUZZ_JOBS:-2}" --target $(printf 'fuzz_%s ' "${targets[@]}")
 
+# Leaks inside third-party libraries (assimp) are suppressed, never the project's own.
+export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+
 mkdir -p "$build/logs"
 status=0
 for target in "${targets[@]}"; do

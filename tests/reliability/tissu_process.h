@@ -82,6 +82,8 @@ class TissuProcess : public ::testing::Test {
       if (fd < 0 || dup2(fd, STDERR_FILENO) < 0) _exit(126);
       const int null = open("/dev/null", O_WRONLY);
       if (null >= 0) dup2(null, STDOUT_FILENO);
+      // Sanitizer builds: third-party leaks only (tests/lsan.supp), never the project's.
+      setenv("LSAN_OPTIONS", "suppressions=" TISSU_SOURCE_DIR "/tests/lsan.supp", 1);
       if (limits.max_file_bytes >= 0) {
         signal(SIGXFSZ, SIG_IGN);  // stays ignored across exec: writes fail with EFBIG
         const rlimit limit{static_cast<rlim_t>(limits.max_file_bytes),
