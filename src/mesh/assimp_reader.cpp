@@ -3,6 +3,8 @@
 #include <assimp/scene.h>
 
 #include <array>
+#include <fstream>
+#include <iterator>
 #include <map>
 
 #include "core/error.h"
@@ -16,10 +18,28 @@ std::string place_of(unsigned mesh, unsigned face) {
   return "mesh " + std::to_string(mesh) + ", face " + std::to_string(face);
 }
 
+// assimp 5.2's PLY reader never returns on a header without an end_header line or with a
+// NUL byte in it, and misreads NUL bytes in an ASCII body into faces that make its
+// triangulation abort: such files are rejected before assimp reads them.
+void check_ply(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (text.compare(0, 3, "ply") != 0) return;
+  auto fail = [&](const std::string& problem) { throw InputError(path + ": " + problem); };
+  const size_t end = text.find("\nend_header");
+  if (end == std::string::npos) fail("PLY header: no end_header line");
+  const size_t nul = text.find('\0');
+  if (nul < end) fail("byte " + std::to_string(nul) + ": NUL byte in the PLY header");
+  if (nul != std::string::npos && text.find("\nformat ascii") < end) {
+    fail("byte " + std::to_string(nul) + ": NUL byte in an ASCII PLY file");
+  }
+}
+
 }  // namespace
 
 MeshFileData read_with_assimp(const std::string& path) {
   auto fail = [&](const std::string& problem) { throw InputError(path + ": " + problem); };
+  check_ply(path);
   Assimp::Importer importer;
   const aiScene* scene =
       importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
