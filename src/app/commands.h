@@ -8,6 +8,8 @@ namespace tissu {
 
 int command_run(const std::vector<std::string>& args);
 int command_render(const std::vector<std::string>& args);
+int command_study(const std::vector<std::string>& args);
+int command_stability(const std::vector<std::string>& args);
 
 // Exit code of a finished run.
 constexpr int kExitOk = 0;

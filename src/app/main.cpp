@@ -14,6 +14,8 @@ const char* kHelp =
     "Commands:\n"
     "  run SCENE.json      simulate a scene; write a report and OBJ snapshots\n"
     "  render SCENE.json   simulate and render a scene to MP4 (and PNG) files\n"
+    "  study SCENE.json    error against cost of every integrator over a ladder of time steps\n"
+    "  stability SCENE.json...  largest stable time step of every integrator (bisection)\n"
     "  help                show this help\n"
     "Run `tissu <command> --help` for the options of a command.\n";
 
@@ -30,6 +32,8 @@ int main(int argc, char** argv) {
   try {
     if (args[0] == "run") return command_run(rest);
     if (args[0] == "render") return command_render(rest);
+    if (args[0] == "study") return command_study(rest);
+    if (args[0] == "stability") return command_stability(rest);
     std::cerr << "tissu: unknown command \"" << args[0] << "\" (see tissu --help)\n";
     return kExitBadInput;
   } catch (const InputError& e) {

@@ -1,0 +1,141 @@
+// Measured runs: samples on and between steps, divergence, energy growth and obstacle
+// penetration are always reported, never silent.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "study/probe.h"
+
+namespace tissu {
+namespace {
+
+constexpr double kG = 9.81;  // m/s^2
+
+// A small free silk sheet (about 50 triangles, edges about 4 cm) in the x-y plane at z = 0,
+// falling. Its explicit stability limit is about 2.7e-4 s (edge / membrane wave speed).
+Simulation sheet(const std::string& extra_json = "{}") {
+  Json doc = Json::parse(R"({
+    "name": "sheet", "dt": 1e-4, "steps": 10, "integrator": "symplectic_euler",
+    "cloth": {"mesh": {"generate": "rectangle", "size": [0.2, 0.2], "triangles": 50,
+                       "irregular": false},
+              "material": "silk"},
+    "gravity": [0, 0, -9.81]
+  })");
+  doc.merge_patch(Json::parse(extra_json));
+  return build_simulation(parse_scene(doc, ""));
+}
+
+TEST(Probe, SamplesOnTheStepGridAreExactAndBetweenStepsInterpolated) {
+  const Simulation base = sheet();
+  const double h = 1e-4;
+  ProbeSpec spec;
+  spec.integrator = Integrator::SymplecticEuler;
+  spec.dt = h;
+  spec.duration = 20 * h;
+  spec.sample_times = {10.5 * h, 10 * h, 20 * h};  // unsorted on purpose
+  const ProbeResult r = run_probe(base, spec);
+  ASSERT_EQ(r.status, ProbeStatus::Ok);
+  EXPECT_EQ(r.steps, 20);
+  EXPECT_EQ(r.steps_done, 20);
+  EXPECT_NEAR(r.simulated_time, 20 * h, 1e-15);
+  EXPECT_GT(r.wall_seconds, 0.0);
+  ASSERT_EQ(r.samples.size(), 3u);
+  // Free fall of a rigid sheet: z = -g h^2 n (n + 1) / 2 (reference.md).
+  auto z_at = [h](int n) { return -kG * h * h * n * (n + 1) / 2.0; };
+  EXPECT_DOUBLE_EQ(r.samples[0].time, 10 * h);
+  EXPECT_FALSE(r.samples[0].interpolated);
+  EXPECT_DOUBLE_EQ(r.samples[1].time, 10.5 * h);
+  EXPECT_TRUE(r.samples[1].interpolated);
+  EXPECT_FALSE(r.samples[2].interpolated);
+  for (size_t i = 0; i < base.state.x.size(); ++i) {
+    EXPECT_NEAR(r.samples[0].x[i].z(), z_at(10), 1e-14);
+    EXPECT_NEAR(r.samples[1].x[i].z(), 0.5 * (z_at(10) + z_at(11)), 1e-14);
+    EXPECT_NEAR(r.samples[2].x[i].z(), z_at(20), 1e-14);
+    EXPECT_NEAR(r.samples[2].x[i].x(), base.state.x[i].x(), 1e-12);
+  }
+  // Energy of the samples: kinetic of v = -g t at the exact sample.
+  const double mass = total_mass(base.model);
+  EXPECT_NEAR(r.samples[2].energy.kinetic, 0.5 * mass * std::pow(kG * 20 * h, 2), 1e-15);
+}
+
+TEST(Probe, DurationNotOnTheGridRunsOneMoreStep) {
+  ProbeSpec spec;
+  spec.dt = 3e-4;
+  spec.duration = 1e-3;
+  const ProbeResult r = run_probe(sheet(), spec);
+  EXPECT_EQ(r.steps, 4);
+  EXPECT_EQ(r.steps_done, 4);
+}
+
+TEST(Probe, ExplicitEulerGainsEnergyAndIsFlagged) {
+  // Explicit Euler in free fall gains m g^2 h^2 / 2 of total energy per step
+  // (z = -g h^2 n (n - 1) / 2, v = -g n h); symplectic Euler loses as much.
+  const Simulation base = sheet();
+  ProbeSpec spec;
+  spec.dt = 1e-4;
+  spec.duration = 2e-3;
+  spec.monitor_every = 1;
+  spec.energy_margin = 1e-7;  // bound: start + 1e-7 * M g L, below one step's gain
+  spec.integrator = Integrator::ExplicitEuler;
+  const ProbeResult bad = run_probe(base, spec);
+  EXPECT_EQ(bad.status, ProbeStatus::EnergyUnbounded);
+  ASSERT_TRUE(bad.failure.has_value());
+  EXPECT_GE(bad.failure->step, 1);
+  EXPECT_GE(bad.failure->vertex, 0);
+  EXPECT_NE(bad.failure->reason.find("exceeds the bound"), std::string::npos);
+  EXPECT_FALSE(bad.stable());
+  spec.integrator = Integrator::SymplecticEuler;
+  const ProbeResult good = run_probe(base, spec);
+  EXPECT_EQ(good.status, ProbeStatus::Ok) << (good.failure ? good.failure->reason : "");
+}
+
+TEST(Probe, DivergenceIsReportedWithStepAndVertex) {
+  // Pre-stretched 20 % and stepped far beyond the explicit limit.
+  const Simulation base = sheet(R"({"cloth": {"transform": {"scale": 1.2}}})");
+  ProbeSpec spec;
+  spec.integrator = Integrator::ExplicitEuler;
+  spec.dt = 5e-3;
+  spec.duration = 1.0;
+  const ProbeResult r = run_probe(base, spec);
+  ASSERT_NE(r.status, ProbeStatus::Ok);
+  ASSERT_TRUE(r.failure.has_value());
+  EXPECT_GE(r.failure->step, 1);
+  EXPECT_GE(r.failure->vertex, 0);
+  EXPECT_LT(r.steps_done, r.steps);
+}
+
+TEST(Probe, VertexInsideAnObstacleIsFlagged) {
+  // A pinned vertex is never pushed out by collisions: put a sphere around it.
+  Simulation base = sheet(R"({
+    "cloth": {"pins": [{"vertices": [0]}]},
+    "obstacles": [{"sphere": {"center": [-0.1, -0.1, 0.0], "radius": 0.01}}]
+  })");
+  ProbeSpec spec;
+  spec.dt = 1e-4;
+  spec.duration = 5e-4;
+  const ProbeResult r = run_probe(base, spec);
+  EXPECT_EQ(r.status, ProbeStatus::Penetration);
+  ASSERT_TRUE(r.failure.has_value());
+  EXPECT_EQ(r.failure->vertex, 0);
+  ASSERT_TRUE(r.min_clearance.has_value());
+  EXPECT_LT(*r.min_clearance, -0.009);
+}
+
+TEST(Probe, InterruptStopsTheRun) {
+  ProbeSpec spec;
+  spec.dt = 1e-4;
+  spec.duration = 1.0;
+  int polls = 0;
+  spec.interrupted = [&] { return ++polls > 5; };
+  const ProbeResult r = run_probe(sheet(), spec);
+  EXPECT_EQ(r.status, ProbeStatus::Interrupted);
+  EXPECT_EQ(r.steps_done, 5);
+}
+
+TEST(Integrators, NamesRoundTripAndUnknownNamesAreBadInput) {
+  for (Integrator i : all_integrators()) EXPECT_EQ(parse_integrator_name(integrator_name(i)), i);
+  EXPECT_THROW(parse_integrator_name("rk4"), InputError);
+}
+
+}  // namespace
+}  // namespace tissu
