@@ -42,8 +42,7 @@ MeshFileData read_with_assimp(const std::string& path) {
   check_ply(path);
   Assimp::Importer importer;
   const aiScene* scene =
-      importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                                   aiProcess_PreTransformVertices);
+      importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_PreTransformVertices);
   if (!scene || !scene->mRootNode) {
     std::string reason = importer.GetErrorString();
     if (!reason.empty() && reason.back() == '\n') reason.pop_back();
@@ -66,41 +65,45 @@ MeshFileData read_with_assimp(const std::string& path) {
     const aiMesh* source = scene->mMeshes[m];
     for (unsigned f = 0; f < source->mNumFaces; ++f) {
       const aiFace& face = source->mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines
-      Tri tri;
-      for (int k = 0; k < 3; ++k) {
-        const unsigned corner = face.mIndices[k];
-        if (corner >= source->mNumVertices) {
-          fail(place_of(m, f) + ": vertex index " + std::to_string(corner) +
-               " out of range (mesh has " + std::to_string(source->mNumVertices) + " vertices)");
+      // Polygons are split into a fan from their first corner, as the OBJ reader does
+      // (assimp's own triangulation aborts on some malformed PLY files); points and lines
+      // are skipped.
+      for (unsigned fan = 1; fan + 1 < face.mNumIndices; ++fan) {
+        Tri tri;
+        for (int k = 0; k < 3; ++k) {
+          const unsigned corner = face.mIndices[k == 0 ? 0 : fan + k - 1];
+          if (corner >= source->mNumVertices) {
+            fail(place_of(m, f) + ": vertex index " + std::to_string(corner) +
+                 " out of range (mesh has " + std::to_string(source->mNumVertices) + " vertices)");
+          }
+          const aiVector3D& p = source->mVertices[corner];
+          const Vec3 position(p.x, p.y, p.z);
+          if (!position.allFinite()) {
+            fail(place_of(m, f) + ": non-finite position " + format_short(position));
+          }
+          const auto [it, is_new] = id_at.emplace(
+              std::array<double, 3>{position.x(), position.y(), position.z()},
+              static_cast<int>(mesh.positions.size()));
+          tri[k] = it->second;
+          if (is_new) mesh.positions.push_back(position);
+          if (!with_texture) continue;
+          const aiVector3D& t = source->mTextureCoords[0][corner];
+          const Vec2 uv(t.x, t.y);
+          if (is_new) {
+            mesh.rest_uv.push_back(uv);
+            first_place.push_back(place_of(m, f));
+            extent = std::max(extent, uv.cwiseAbs().maxCoeff());
+          } else if (!same_texture_coordinates(mesh.rest_uv[tri[k]], uv,
+                                               std::max(extent, uv.cwiseAbs().maxCoeff()))) {
+            fail(place_of(m, f) + ": the vertex at " + format_short(position) +
+                 " has texture coordinates " + format_short(uv) + " here but " +
+                 format_short(mesh.rest_uv[tri[k]]) + " at " + first_place[tri[k]] + "; " +
+                 kSeamAdvice);
+          }
         }
-        const aiVector3D& p = source->mVertices[corner];
-        const Vec3 position(p.x, p.y, p.z);
-        if (!position.allFinite()) {
-          fail(place_of(m, f) + ": non-finite position " + format_short(position));
-        }
-        const auto [it, is_new] = id_at.emplace(
-            std::array<double, 3>{position.x(), position.y(), position.z()},
-            static_cast<int>(mesh.positions.size()));
-        tri[k] = it->second;
-        if (is_new) mesh.positions.push_back(position);
-        if (!with_texture) continue;
-        const aiVector3D& t = source->mTextureCoords[0][corner];
-        const Vec2 uv(t.x, t.y);
-        if (is_new) {
-          mesh.rest_uv.push_back(uv);
-          first_place.push_back(place_of(m, f));
-          extent = std::max(extent, uv.cwiseAbs().maxCoeff());
-        } else if (!same_texture_coordinates(mesh.rest_uv[tri[k]], uv,
-                                             std::max(extent, uv.cwiseAbs().maxCoeff()))) {
-          fail(place_of(m, f) + ": the vertex at " + format_short(position) +
-               " has texture coordinates " + format_short(uv) + " here but " +
-               format_short(mesh.rest_uv[tri[k]]) + " at " + first_place[tri[k]] + "; " +
-               kSeamAdvice);
-        }
+        mesh.triangles.push_back(tri);
+        data.triangle_places.push_back(place_of(m, f));
       }
-      mesh.triangles.push_back(tri);
-      data.triangle_places.push_back(place_of(m, f));
     }
   }
   return data;
