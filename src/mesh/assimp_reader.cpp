@@ -2,10 +2,14 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <array>
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <set>
+#include <sstream>
+#include <vector>
 
 #include "core/error.h"
 #include "mesh/format.h"
@@ -32,6 +36,34 @@ void check_ply(const std::string& path) {
   if (nul < end) fail("byte " + std::to_string(nul) + ": NUL byte in the PLY header");
   if (nul != std::string::npos && text.find("\nformat ascii") < end) {
     fail("byte " + std::to_string(nul) + ": NUL byte in an ASCII PLY file");
+  }
+  // Every header line must be a PLY statement: the reader also loops forever on some
+  // malformed ones ("property float oat z").
+  static const std::set<std::string> kTypes = {
+      "char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8",
+      "int16", "uint16", "int32", "uint32", "float32", "float64"};
+  auto is_count = [](const std::string& w) {
+    return !w.empty() && w.size() < 19 &&
+           std::all_of(w.begin(), w.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  std::istringstream header(text.substr(0, end));
+  int number = 0;
+  for (std::string line; std::getline(header, line);) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream in_line(line);
+    std::vector<std::string> w{std::istream_iterator<std::string>(in_line),
+                               std::istream_iterator<std::string>()};
+    const bool ok =
+        (number == 1 && w.size() == 1 && w[0] == "ply") ||
+        (number > 1 && !w.empty() && (w[0] == "comment" || w[0] == "obj_info")) ||
+        (number > 1 && w.size() == 3 && w[0] == "format" && w[2] == "1.0" &&
+         (w[1] == "ascii" || w[1] == "binary_little_endian" || w[1] == "binary_big_endian")) ||
+        (number > 1 && w.size() == 3 && w[0] == "element" && is_count(w[2])) ||
+        (number > 1 && w.size() == 3 && w[0] == "property" && kTypes.count(w[1])) ||
+        (number > 1 && w.size() == 5 && w[0] == "property" && w[1] == "list" &&
+         kTypes.count(w[2]) && kTypes.count(w[3]));
+    if (!ok) fail("PLY header line " + std::to_string(number) + ": not a PLY header statement");
   }
 }
 
