@@ -10,6 +10,8 @@ int command_run(const std::vector<std::string>& args);
 int command_render(const std::vector<std::string>& args);
 int command_study(const std::vector<std::string>& args);
 int command_stability(const std::vector<std::string>& args);
+int command_figure(const std::vector<std::string>& args);
+int command_paper(const std::vector<std::string>& args);
 
 // Exit code of a finished run.
 constexpr int kExitOk = 0;

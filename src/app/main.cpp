@@ -16,6 +16,8 @@ const char* kHelp =
     "  render SCENE.json   simulate and render a scene to MP4 (and PNG) files\n"
     "  study SCENE.json    error against cost of every integrator over a ladder of time steps\n"
     "  stability SCENE.json...  largest stable time step of every integrator (bisection)\n"
+    "  figure FIGURE.json...  render figure files (panels of runs, with captions) to PNG\n"
+    "  paper               run the paper's experiments; write docs/paper-results.md/.csv\n"
     "  help                show this help\n"
     "Run `tissu <command> --help` for the options of a command.\n";
 
@@ -34,6 +36,8 @@ int main(int argc, char** argv) {
     if (args[0] == "render") return command_render(rest);
     if (args[0] == "study") return command_study(rest);
     if (args[0] == "stability") return command_stability(rest);
+    if (args[0] == "figure") return command_figure(rest);
+    if (args[0] == "paper") return command_paper(rest);
     std::cerr << "tissu: unknown command \"" << args[0] << "\" (see tissu --help)\n";
     return kExitBadInput;
   } catch (const InputError& e) {

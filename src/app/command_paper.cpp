@@ -1,0 +1,73 @@
+// tissu paper: runs the experiments of the paper's section 4 and writes
+// docs/paper-results.md and docs/paper-results.csv (see src/figure/paper_experiments.h).
+#include <iostream>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "core/error.h"
+#include "figure/paper_experiments.h"
+
+namespace tissu {
+
+namespace {
+
+const char* kUsage =
+    "usage: tissu paper [--scenes DIR] [--out DIR] [--repeats N] [--quick] [--quiet]\n"
+    "Runs the experiments of the paper's section 4 on this machine and writes\n"
+    "DIR/paper-results.md and DIR/paper-results.csv: time of 2000 iterations on Tissu 1 and\n"
+    "Tissu 2 next to the paper's, divergence without position correction (and how it moves\n"
+    "with the time step, stiffness and correction settings), distance from a converged\n"
+    "reference, free fall, and the cloth hung at 3 points. Takes a few minutes.\n"
+    "  --scenes DIR   the paper scenes (default scenes/paper)\n"
+    "  --out DIR      where to write (default docs)\n"
+    "  --repeats N    timed runs per case, median reported (default 3)\n"
+    "  --quick        fewer iterations and cells: checks the command, not the results\n"
+    "  --quiet        no progress lines\n"
+    "Exit codes: 0 ok, 1 output error, 2 bad input.\n";
+
+}  // namespace
+
+int command_paper(const std::vector<std::string>& args) {
+  PaperOptions o;
+  bool quiet = false;
+  o.command_line = "tissu paper";
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= args.size()) throw InputError("tissu paper: " + a + " needs a value");
+      return args[++i];
+    };
+    if (a == "--help" || a == "-h") {
+      std::cout << kUsage;
+      return kExitOk;
+    } else if (a == "--scenes") {
+      o.scenes_dir = value();
+    } else if (a == "--out") {
+      o.out_dir = value();
+    } else if (a == "--repeats") {
+      const std::string v = value();
+      try {
+        size_t used = 0;
+        o.repeats = std::stoi(v, &used);
+        if (used != v.size() || o.repeats < 1 || o.repeats > 100) throw std::invalid_argument(v);
+      } catch (const std::exception&) {
+        throw InputError("tissu paper: --repeats must be an integer in 1..100, got " + v);
+      }
+    } else if (a == "--quick") {
+      o.quick = true;
+    } else if (a == "--quiet") {
+      quiet = true;
+    } else {
+      throw InputError("tissu paper: unknown argument " + a + " (see tissu paper --help)");
+    }
+    if (a != "--quiet") o.command_line += " " + a;
+    if (a == "--scenes" || a == "--out" || a == "--repeats") o.command_line += " " + args[i];
+  }
+  prepare_output_dir(o.out_dir);
+  if (!quiet) o.log = [](const std::string& line) { std::cerr << "tissu: paper: " << line << "\n"; };
+  const auto [md, csv] = run_paper_experiments(o);
+  if (!quiet) std::cerr << "tissu: wrote " << md << " and " << csv << "\n";
+  return kExitOk;
+}
+
+}  // namespace tissu

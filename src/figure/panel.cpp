@@ -1,0 +1,196 @@
+#include "figure/panel.h"
+
+#include <chrono>
+#include <sstream>
+
+namespace tissu {
+
+namespace {
+
+// Splits "a.b.0.c" at the dots.
+std::vector<std::string> key_parts(const std::string& key) {
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  return parts;
+}
+
+void remove_key(Json& doc, const std::string& key) {
+  const std::vector<std::string> parts = key_parts(key);
+  Json* node = &doc;
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    if (node->is_object() && node->contains(parts[i])) {
+      node = &(*node)[parts[i]];
+    } else if (node->is_array() && !parts[i].empty() &&
+               parts[i].find_first_not_of("0123456789") == std::string::npos &&
+               parts[i].size() < 10 && std::stoul(parts[i]) < node->size()) {
+      node = &(*node)[std::stoul(parts[i])];
+    } else {
+      return;  // nothing to remove
+    }
+  }
+  if (node->is_object()) node->erase(parts.back());
+}
+
+// Cloth resting on an obstacle lies on its surface, where both tessellations would cut
+// through each other: obstacles are drawn slightly inside (as `tissu render` does).
+constexpr double kDrawInset = 0.01;  // fraction of the radius
+
+ObstacleShape obstacle_shape(const Obstacle& ob, double t) {
+  ObstacleShape s;
+  switch (ob.kind) {
+    case ObstacleKind::Sphere: s.kind = ObstacleShape::Kind::Sphere; break;
+    case ObstacleKind::Cylinder: s.kind = ObstacleShape::Kind::Cylinder; break;
+    case ObstacleKind::Plane: s.kind = ObstacleShape::Kind::Plane; break;
+  }
+  s.center = ob.center_at(t);
+  s.axis = ob.axis;
+  s.radius = ob.radius * (1.0 - kDrawInset);
+  s.half_length = ob.half_length - ob.radius * kDrawInset;
+  if (ob.kind == ObstacleKind::Plane) s.center -= 0.002 * ob.axis;  // 2 mm below
+  return s;
+}
+
+}  // namespace
+
+void apply_panel_override(Json& doc, const std::string& key, const Json& value) {
+  if (value.is_null()) {
+    remove_key(doc, key);
+  } else {
+    apply_override(doc, key + "=" + value.dump());
+  }
+}
+
+Scene load_panel_scene(const PanelSpec& panel, const std::string& figure_file) {
+  const std::string where = (figure_file.empty() ? "" : figure_file + ": ") + panel.path;
+  Json doc;
+  try {
+    doc = read_scene_json(panel.scene);
+  } catch (const InputError& e) {
+    throw InputError(where + ".scene: " + e.what());
+  }
+  for (const auto& [key, value] : panel.overrides) {
+    try {
+      apply_panel_override(doc, key, value);
+    } catch (const InputError& e) {
+      throw InputError(where + ".overrides." + key + ": " + e.what());
+    }
+  }
+  try {
+    return parse_scene(doc, panel.scene);
+  } catch (const InputError& e) {
+    std::string message = e.what();
+    // Name the override when the bad value came from one.
+    const std::string bad = message.substr(0, message.find(':'));
+    for (const auto& [key, value] : panel.overrides) {
+      if (bad == key || bad.rfind(key + ".", 0) == 0 || bad.rfind(key + "[", 0) == 0) {
+        throw InputError(where + ".overrides." + key + ": " + panel.scene + ": " + message);
+      }
+    }
+    throw InputError(where + ": " + panel.scene + ": " + message);
+  }
+}
+
+PanelRun run_panel(const Scene& scene, long long step_shown, long long frame_every,
+                   const FrameCallback& on_frame) {
+  PanelRun run;
+  run.requested = step_shown;
+  run.sim = build_simulation(scene);
+  const Model& model = run.sim.model;
+  State& state = run.sim.state;
+  run.initial_x = state.x;
+  Workspace ws;
+  State good;  // the state before the step being taken
+  auto frame_due = [&](long long s) {
+    return on_frame && (s == step_shown || (frame_every > 0 && s % frame_every == 0));
+  };
+  if (frame_due(0)) on_frame(model, state);
+  using Clock = std::chrono::steady_clock;
+  Clock::duration simulating{0};
+  while (state.step < step_shown) {
+    good.x = state.x;
+    good.v = state.v;
+    good.t = state.t;
+    good.step = state.step;
+    const Clock::time_point t0 = Clock::now();
+    const std::optional<Divergence> divergence = step(model, state, ws);
+    simulating += Clock::now() - t0;
+    if (divergence) {
+      run.divergence = divergence;
+      std::swap(state, good);
+      if (on_frame && !frame_due(state.step)) on_frame(model, state);  // video ends on it
+      break;
+    }
+    if (frame_due(state.step)) on_frame(model, state);
+  }
+  run.simulate_seconds = std::chrono::duration<double>(simulating).count();
+  return run;
+}
+
+RenderSettings panel_render_settings(const Scene& scene, int width, int height) {
+  RenderSettings settings;
+  if (!scene.render.is_null()) {
+    JsonReader reader(scene.render, "render");
+    settings = parse_render_settings(reader);
+  }
+  settings.width = width;
+  settings.height = height;
+  settings.caption.clear();
+  settings.info = false;
+  return settings;
+}
+
+FrameContent panel_frame_content(const Model& model, const State& state) {
+  FrameContent content;
+  content.triangles = model.triangles;
+  content.rest_uv = model.rest_uv;
+  content.positions = state.x;
+  for (const Obstacle& ob : model.obstacles) content.obstacles.push_back(obstacle_shape(ob, state.t));
+  return content;
+}
+
+Camera panel_camera(const RenderSettings& settings, const Model& model, const Vec3List& initial_x) {
+  State first;
+  first.x = initial_x;
+  const FrameContent content = panel_frame_content(model, first);
+  std::optional<double> ground;
+  if (settings.ground) ground = settings.ground->height;
+  return auto_camera(content, static_cast<double>(settings.width) / settings.height,
+                     settings.camera, ground);
+}
+
+Image render_panel(const Scene& scene, const PanelRun& run, int width, int height) {
+  const RenderSettings settings = panel_render_settings(scene, width, height);
+  Renderer renderer(settings);
+  renderer.set_camera(panel_camera(settings, run.sim.model, run.initial_x));
+  renderer.draw(panel_frame_content(run.sim.model, run.sim.state));
+  Image image(width, height);
+  renderer.read_rgb(image.rgb);
+  return image;
+}
+
+CaptionValues caption_values(const Scene& scene, const PanelRun& run) {
+  CaptionValues v;
+  v.name = scene.name;
+  v.triangles = run.sim.model.num_triangles();
+  v.vertices = run.sim.model.num_vertices();
+  v.step = run.sim.state.step;
+  v.wall_seconds = run.simulate_seconds;
+  v.time = run.sim.state.t;
+  v.integrator = integrator_name(run.sim.model.integrator);
+  v.material = run.sim.model.material.name;
+  v.dt = run.sim.model.dt;
+  v.correction = run.sim.model.position_correction.has_value();
+  return v;
+}
+
+std::string panel_caption(const std::string& caption_template, const Scene& scene,
+                          const PanelRun& run) {
+  std::string caption = expand_caption(caption_template, caption_values(scene, run));
+  if (run.divergence) {
+    caption += "\ndiverged at iteration " + std::to_string(run.divergence->step);
+  }
+  return caption;
+}
+
+}  // namespace tissu
