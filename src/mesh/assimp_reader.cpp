@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -28,7 +29,13 @@ std::string place_of(unsigned mesh, unsigned face) {
 void check_ply(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (text.compare(0, 3, "ply") != 0) return;
+  // By name or by content, either way assimp reads it as PLY.
+  auto lower = [](std::string t) {
+    for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return t;
+  };
+  const bool ply_name = path.size() >= 4 && lower(path.substr(path.size() - 4)) == ".ply";
+  if (!ply_name && lower(text.substr(0, 3)) != "ply") return;
   auto fail = [&](const std::string& problem) { throw InputError(path + ": " + problem); };
   const size_t end = text.find("\nend_header");
   if (end == std::string::npos) fail("PLY header: no end_header line");
