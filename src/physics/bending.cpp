@@ -26,8 +26,10 @@ namespace {
 // by 0.3 spacings.
 constexpr double kMinConditioning = 0.05;
 constexpr double kMaxAmplification = 10.0;
-// Candidate extra vertices considered for boundary / fallback stencils (nearest first).
+// Candidate extra vertices considered for boundary / fallback / least-squares stencils
+// (nearest first).
 constexpr int kMaxCandidates = 12;
+static_assert(3 + kMaxCandidates <= BendingStencil::kMaxNodes, "stencil capacity");
 
 using RowMatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3List must be contiguous doubles");
@@ -53,8 +55,9 @@ struct Fit {
 // values are affine (r = 0).
 Fit fit_hessian(const Vec2 p[3], const std::vector<Vec2>& q) {
   const double d = cross2(p[1] - p[0], p[2] - p[0]);  // twice the signed area, m^2
-  const double l2 = ((p[1] - p[0]).squaredNorm() + (p[2] - p[1]).squaredNorm() +
-                     (p[0] - p[2]).squaredNorm()) / 3.0;
+  const double l2 =
+      ((p[1] - p[0]).squaredNorm() + (p[2] - p[1]).squaredNorm() + (p[0] - p[2]).squaredNorm()) /
+      3.0;
   auto phi = [&](int i, const Vec2& w) {
     return cross2(p[(i + 1) % 3] - w, p[(i + 2) % 3] - w) / d;
   };
@@ -126,6 +129,48 @@ Fit fit_hessian(const Vec2 p[3], const std::vector<Vec2>& q) {
   }
   fit.amplification = l2 * std::sqrt(sum_sq);
   fit.truncation = sum_r3 / std::sqrt(l2);
+  return fit;
+}
+
+// Least-squares quadratic through the triangle's corners and the points q (at least 3):
+// used for needle and cap triangles, where every 6-point patch that interpolates the
+// triangle's own corners has large weights (the slope across the triangle is measured
+// over its tiny height). Still exact for quadratic fields and zero on affine ones.
+Fit fit_least_squares(const Vec2 p[3], const std::vector<Vec2>& q) {
+  const int n = 3 + static_cast<int>(q.size());
+  const double l2 =
+      ((p[1] - p[0]).squaredNorm() + (p[2] - p[1]).squaredNorm() + (p[0] - p[2]).squaredNorm()) /
+      3.0;
+  const double ell = std::sqrt(l2);
+  const Vec2 centroid = (p[0] + p[1] + p[2]) / 3.0;
+  // Monomials 1, x, y, x^2/2, y^2/2, xy in coordinates scaled by ell.
+  Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor, BendingStencil::kMaxNodes, 6> A(n, 6);
+  for (int j = 0; j < n; ++j) {
+    const Vec2 z = ((j < 3 ? p[j] : q[j - 3]) - centroid) / ell;
+    A.row(j) << 1.0, z.x(), z.y(), 0.5 * z.x() * z.x(), 0.5 * z.y() * z.y(), z.x() * z.y();
+  }
+  const Eigen::Matrix<double, 6, 6> N = A.transpose() * A;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(N);
+  Fit fit;
+  fit.count = n;
+  const double lo = eig.eigenvalues()[0], hi = eig.eigenvalues()[5];
+  fit.conditioning = lo > 0.0 ? std::sqrt(lo / hi) : 0.0;
+  if (!(fit.conditioning > 1e-8)) return fit;
+  // Rows 3..5 of (A^T A)^-1 A^T give the scaled second derivatives.
+  const Eigen::Matrix<double, 6, 6> N_inv = eig.eigenvectors() *
+                                            eig.eigenvalues().cwiseInverse().asDiagonal() *
+                                            eig.eigenvectors().transpose();
+  double sum_sq = 0.0, sum_r3 = 0.0;
+  for (int j = 0; j < n; ++j) {
+    const double r3 = std::pow(((j < 3 ? p[j] : q[j - 3]) - centroid).norm(), 3);
+    for (int c = 0; c < 3; ++c) {
+      fit.w[c][j] = N_inv.row(3 + c).dot(A.row(j)) / l2;
+      sum_sq += fit.w[c][j] * fit.w[c][j];
+      sum_r3 += std::abs(fit.w[c][j]) * r3;
+    }
+  }
+  fit.amplification = l2 * std::sqrt(sum_sq);
+  fit.truncation = sum_r3 / ell;
   return fit;
 }
 
@@ -276,14 +321,16 @@ struct DisjointSets {
   }
 };
 
-// Groups of triangles tied together by their stencils: a stencil that contains a
-// neighbouring triangle ties the two (on a zero-energy configuration both patches are
-// affine and they agree on the shared triangle). When the ties connect every triangle of
-// each connected piece of the mesh, the kernel of Q is exactly the affine maps.
+// Groups of triangles tied together by their stencils: an interpolating stencil that
+// contains a neighbouring triangle ties the two (on a zero-energy configuration both
+// patches are affine and they agree on the shared triangle).
 DisjointSets stencil_groups(const TriList& triangles, const MeshAdjacency& adj,
-                            const std::vector<std::vector<int>>& extras) {
+                            const std::vector<std::vector<int>>& extras,
+                            const std::vector<uint8_t>& least_squares) {
   DisjointSets sets(static_cast<int>(triangles.size()));
   for (int t = 0; t < static_cast<int>(triangles.size()); ++t) {
+    // A least-squares patch can have zero second derivatives without being affine.
+    if (least_squares[t]) continue;
     for (int k = 0; k < 3; ++k) {
       const auto [other, apex] = hinge(triangles, adj, t, k);
       if (other < 0) continue;
@@ -295,18 +342,173 @@ DisjointSets stencil_groups(const TriList& triangles, const MeshAdjacency& adj,
   return sets;
 }
 
-int mesh_pieces(const TriList& triangles, const MeshAdjacency& adj) {
-  DisjointSets sets(static_cast<int>(triangles.size()));
+// The largest group of tied triangles of each piece of mesh (triangles connected through
+// edges): main[root] = 1 for the roots of those groups.
+std::vector<uint8_t> main_groups(const TriList& triangles, const MeshAdjacency& adj,
+                                 DisjointSets& groups) {
+  const int T = static_cast<int>(triangles.size());
+  DisjointSets pieces(T);
   for (const auto& [edge, tris] : adj.edge_triangles) {
-    for (size_t i = 1; i < tris.size(); ++i) sets.unite(tris[0], tris[i]);
+    for (size_t i = 1; i < tris.size(); ++i) pieces.unite(tris[0], tris[i]);
   }
-  return sets.count();
+  std::vector<int> group_size(T, 0), main_group(T, -1);
+  for (int t = 0; t < T; ++t) ++group_size[groups.find(t)];
+  for (int t = 0; t < T; ++t) {
+    const int g = groups.find(t), piece = pieces.find(t);
+    if (main_group[piece] < 0 || group_size[g] > group_size[main_group[piece]]) {
+      main_group[piece] = g;
+    }
+  }
+  std::vector<uint8_t> main(T, 0);
+  for (int t = 0; t < T; ++t) {
+    if (main_group[t] >= 0) main[main_group[t]] = 1;
+  }
+  return main;
+}
+
+// Vertices that are not a corner of a triangle of their piece's main group.
+std::vector<uint8_t> untied_vertices(const TriList& triangles, DisjointSets& groups,
+                                     const std::vector<uint8_t>& main, int num_vertices) {
+  std::vector<uint8_t> untied(num_vertices, 0);
+  for (const Tri& tri : triangles) {
+    for (int i = 0; i < 3; ++i) untied[tri[i]] = 1;
+  }
+  for (int t = 0; t < static_cast<int>(triangles.size()); ++t) {
+    if (!main[groups.find(t)]) continue;
+    for (int i = 0; i < 3; ++i) untied[triangles[t][i]] = 0;
+  }
+  return untied;
+}
+
+// Whether the kernel of Q is (numerically) exactly the affine maps of each piece of mesh,
+// given the groups of tied triangles. Each group follows one affine map a_g (3 numbers per
+// coordinate); a zero-energy configuration must also satisfy: a vertex shared by two
+// groups has the same position under both maps, and every stencil whose nodes lie in
+// several groups has zero second derivatives. Fixing a_g = 0 for the main group of each
+// piece (the affine map common to all), the kernel is exactly affine when these linear
+// constraints then force every other a_g to 0. The constraints couple only nearby
+// groups: each cluster of coupled groups is checked alone (a rank test), and a cluster of
+// more than kMaxClusterGroups groups counts as "not proven".
+constexpr int kMaxClusterGroups = 100;
+bool kernel_is_affine(const TriList& triangles, const Vec2List& uv, const MeshAdjacency& adj,
+                      DisjointSets& groups, const std::vector<std::vector<int>>& extras,
+                      const std::vector<Fit>& fits) {
+  const int T = static_cast<int>(triangles.size());
+  const int V = static_cast<int>(uv.size());
+  const std::vector<uint8_t> main = main_groups(triangles, adj, groups);
+  bool all_main = true;
+  for (int t = 0; t < T; ++t) all_main = all_main && main[groups.find(t)];
+  if (all_main) return true;
+
+  // Affine basis (1, u, v) in coordinates centred and scaled to the mesh.
+  Vec2 lo = uv[0], hi = uv[0];
+  for (const Vec2& p : uv) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Vec2 mid = 0.5 * (lo + hi);
+  const double size = std::max((hi - lo).maxCoeff(), std::numeric_limits<double>::min());
+  auto basis = [&](int v) {
+    const Vec2 z = (uv[v] - mid) / size;
+    return Eigen::Vector3d(1.0, z.x(), z.y());
+  };
+  // Groups having each vertex as a corner; the first one represents the vertex.
+  std::vector<std::vector<int>> vertex_groups(V);
+  for (int t = 0; t < T; ++t) {
+    const int g = groups.find(t);
+    for (int i = 0; i < 3; ++i) {
+      auto& list = vertex_groups[triangles[t][i]];
+      if (std::find(list.begin(), list.end(), g) == list.end()) list.push_back(g);
+    }
+  }
+
+  // Constraint rows, each a short list of (group root, 3 coefficients), unit norm; terms
+  // on main groups are dropped (their a_g is 0).
+  using Row = std::vector<std::pair<int, Eigen::Vector3d>>;
+  std::vector<Row> rows;
+  auto add_row = [&](Row row, double scale) {
+    double norm_sq = 0.0;
+    for (const auto& term : row) norm_sq += term.second.squaredNorm();
+    const double norm = std::sqrt(norm_sq);
+    // A row much smaller than its terms is round-off of a zero row.
+    if (!(norm > 1e-9 * scale)) return;
+    Row kept;
+    for (auto& term : row) {
+      if (!main[term.first]) kept.emplace_back(term.first, term.second / norm);
+    }
+    if (!kept.empty()) rows.push_back(std::move(kept));
+  };
+  auto accumulate = [](Row& row, int g, const Eigen::Vector3d& c) {
+    for (auto& term : row) {
+      if (term.first == g) {
+        term.second += c;
+        return;
+      }
+    }
+    row.emplace_back(g, c);
+  };
+  for (int v = 0; v < V; ++v) {
+    const auto& list = vertex_groups[v];
+    for (size_t i = 1; i < list.size(); ++i) {
+      add_row({{list[0], basis(v)}, {list[i], -basis(v)}}, 2.0 * basis(v).norm());
+    }
+  }
+  for (int t = 0; t < T; ++t) {
+    auto node = [&](int n) { return n < 3 ? triangles[t][n] : extras[t][n - 3]; };
+    bool spans = false;
+    for (int n = 1; n < fits[t].count; ++n) {
+      spans = spans || vertex_groups[node(n)][0] != vertex_groups[node(0)][0];
+    }
+    if (!spans) continue;
+    for (int c = 0; c < 3; ++c) {
+      Row row;
+      double scale = 0.0;
+      for (int n = 0; n < fits[t].count; ++n) {
+        const Eigen::Vector3d term = fits[t].w[c][n] * basis(node(n));
+        accumulate(row, vertex_groups[node(n)][0], term);
+        scale += term.norm();
+      }
+      add_row(std::move(row), scale);
+    }
+  }
+
+  // Clusters of non-main groups coupled by rows; each must have full column rank.
+  DisjointSets clusters(T);
+  for (const Row& row : rows) {
+    for (size_t i = 1; i < row.size(); ++i) clusters.unite(row[0].first, row[i].first);
+  }
+  std::vector<int> column(T, -1), cluster_size(T, 0);
+  for (int t = 0; t < T; ++t) {
+    const int g = groups.find(t);
+    if (g != t || main[g]) continue;  // one entry per non-main group
+    column[g] = cluster_size[clusters.find(g)]++;
+  }
+  std::vector<std::vector<int>> cluster_rows(T);
+  for (int r = 0; r < static_cast<int>(rows.size()); ++r) {
+    cluster_rows[clusters.find(rows[r][0].first)].push_back(r);
+  }
+  for (int root = 0; root < T; ++root) {
+    const int n = cluster_size[root];
+    if (n == 0) continue;
+    if (n > kMaxClusterGroups) return false;
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(cluster_rows[root].size(), 3 * n);
+    for (size_t r = 0; r < cluster_rows[root].size(); ++r) {
+      for (const auto& [g, c] : rows[cluster_rows[root][r]]) {
+        C.block<1, 3>(r, 3 * column[g]) = c.transpose();
+      }
+    }
+    if (C.rows() < C.cols()) return false;
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C);
+    qr.setThreshold(1e-10);
+    if (qr.rank() < C.cols()) return false;
+  }
+  return true;
 }
 
 }  // namespace
 
-BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv,
-                           double bending_weft, double bending_warp) {
+BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv, double bending_weft,
+                           double bending_warp) {
   if (!(bending_weft >= 0.0)) {
     throw InputError("bending: weft flexural rigidity must be >= 0 N*m, got " +
                      std::to_string(bending_weft));
@@ -323,14 +525,14 @@ BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv,
     for (int i = 0; i < 3; ++i) {
       if (triangles[t][i] < 0 || triangles[t][i] >= V) {
         throw InputError("bending: triangle " + std::to_string(t) + " has vertex id " +
-                         std::to_string(triangles[t][i]) + " outside [0, " +
-                         std::to_string(V) + ")");
+                         std::to_string(triangles[t][i]) + " outside [0, " + std::to_string(V) +
+                         ")");
       }
     }
     const Vec2 p[3] = {rest_uv[triangles[t][0]], rest_uv[triangles[t][1]],
                        rest_uv[triangles[t][2]]};
-    const double scale = (p[1] - p[0]).squaredNorm() + (p[2] - p[1]).squaredNorm() +
-                         (p[0] - p[2]).squaredNorm();
+    const double scale =
+        (p[1] - p[0]).squaredNorm() + (p[2] - p[1]).squaredNorm() + (p[0] - p[2]).squaredNorm();
     if (!(std::abs(cross2(p[1] - p[0], p[2] - p[0])) > 1e-12 * scale)) {
       throw InputError("bending: rest triangle " + std::to_string(t) + " is degenerate");
     }
@@ -340,12 +542,17 @@ BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv,
   // Extra stencil points of every triangle: normally its hinge apices. Triangles with a
   // boundary (or non-manifold) edge keep their apices and complete them with the best
   // nearby vertices; interior triangles with ill-posed apices choose the best nearby set
-  // that still contains one apex.
-  std::vector<std::vector<int>> extras(T), apices(T);
-  std::vector<uint8_t> fallback(T, 0);
+  // that still contains one apex. If the weights stay large (needle or cap triangles),
+  // a least-squares patch over the nearby vertices replaces the interpolating one.
+  std::vector<std::vector<int>> extras(T), apices(T), interpolating(T);
+  std::vector<uint8_t> fallback(T, 0), least_squares(T, 0);
+  std::vector<Fit> fits(T);
+  auto corners = [&](int t, Vec2 p[3]) {
+    for (int i = 0; i < 3; ++i) p[i] = rest_uv[triangles[t][i]];
+  };
   for (int t = 0; t < T; ++t) {
-    const Vec2 p[3] = {rest_uv[triangles[t][0]], rest_uv[triangles[t][1]],
-                       rest_uv[triangles[t][2]]};
+    Vec2 p[3];
+    corners(t, p);
     apices[t] = hinge_apices(triangles, adj, t);
     if (apices[t].size() < 3) {
       extras[t] = search_extras(triangles, rest_uv, adj, t, p, apices[t], apices[t], false);
@@ -355,49 +562,80 @@ BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv,
     } else {
       extras[t] = search_extras(triangles, rest_uv, adj, t, p, {}, apices[t], true);
       fallback[t] = 1;
-      ++model.fallback_stencils;
     }
-  }
-  // Fallback stencils may untie a group of triangles from the rest (which would add a
-  // zero-energy mode). Until every piece of the mesh is one group, fallback triangles
-  // bordering another group go back to their hinge apices, which tie them to all their
-  // neighbours.
-  if (model.fallback_stencils > 0) {
-    const int pieces = mesh_pieces(triangles, adj);
-    while (true) {
-      DisjointSets groups = stencil_groups(triangles, adj, extras);
-      if (groups.count() <= pieces) break;
-      std::vector<int> revert;
-      for (int t = 0; t < T; ++t) {
-        if (!fallback[t]) continue;
-        for (int k = 0; k < 3; ++k) {
-          const int other = hinge(triangles, adj, t, k).first;
-          if (other >= 0 && groups.find(other) != groups.find(t)) {
-            revert.push_back(t);
-            break;
-          }
+    interpolating[t] = extras[t];
+    fits[t] = fit_hessian(p, positions(rest_uv, extras[t]));
+    if (fits[t].amplification > kMaxAmplification) {
+      const std::vector<int> nearby = candidate_vertices(triangles, rest_uv, adj, t);
+      if (nearby.size() >= 3) {
+        const Fit wide = fit_least_squares(p, positions(rest_uv, nearby));
+        if (wide.conditioning > 1e-8 && wide.amplification < fits[t].amplification) {
+          extras[t] = nearby;
+          fits[t] = wide;
+          least_squares[t] = 1;
         }
       }
-      if (revert.empty()) break;  // cannot happen: untied groups border each other
-      for (int t : revert) {
+    }
+  }
+  // Fallback and least-squares stencils may break the ties that make the kernel of Q
+  // exactly affine (see kernel_is_affine). Until it is, such stencils go back to their
+  // interpolating patch, then to their hinge apices, which tie a triangle to all its
+  // neighbours: first those touching a vertex outside the largest tied group, least-squares
+  // ones first; if there are none, those bordering another group.
+  while (true) {
+    DisjointSets groups = stencil_groups(triangles, adj, extras, least_squares);
+    if (kernel_is_affine(triangles, rest_uv, adj, groups, extras, fits)) break;
+    const std::vector<uint8_t> untied =
+        untied_vertices(triangles, groups, main_groups(triangles, adj, groups), V);
+    auto touches_untied = [&](int t) {
+      return untied[triangles[t][0]] || untied[triangles[t][1]] || untied[triangles[t][2]];
+    };
+    auto borders_group = [&](int t) {
+      for (int k = 0; k < 3; ++k) {
+        const int other = hinge(triangles, adj, t, k).first;
+        if (other >= 0 && groups.find(other) != groups.find(t)) return true;
+      }
+      return false;
+    };
+    std::vector<int> revert;
+    for (auto select : {0, 1, 2, 3}) {
+      for (int t = 0; t < T; ++t) {
+        const bool kind = select % 2 == 0 ? least_squares[t] != 0 : fallback[t] != 0;
+        const bool where = select < 2 ? touches_untied(t) : borders_group(t);
+        if (kind && where) revert.push_back(t);
+      }
+      if (!revert.empty()) break;
+    }
+    if (revert.empty()) break;  // nothing left to revert
+    for (int t : revert) {
+      Vec2 p[3];
+      corners(t, p);
+      if (least_squares[t]) {
+        extras[t] = interpolating[t];
+        least_squares[t] = 0;
+      } else {
         extras[t] = apices[t];
         fallback[t] = 0;
-        --model.fallback_stencils;
       }
+      fits[t] = fit_hessian(p, positions(rest_uv, extras[t]));
     }
+  }
+  for (int t = 0; t < T; ++t) {
+    model.fallback_stencils += fallback[t];
+    model.least_squares_stencils += least_squares[t];
   }
 
   // Per-triangle stencils.
   model.stencils.resize(T);
   for (int t = 0; t < T; ++t) {
-    const Tri& tri = triangles[t];
-    const Vec2 p[3] = {rest_uv[tri[0]], rest_uv[tri[1]], rest_uv[tri[2]]};
-    const Fit fit = fit_hessian(p, positions(rest_uv, extras[t]));
+    Vec2 p[3];
+    corners(t, p);
+    const Fit& fit = fits[t];
     BendingStencil& st = model.stencils[t];
     st.count = fit.count;
     st.area = 0.5 * std::abs(cross2(p[1] - p[0], p[2] - p[0]));
     for (int n = 0; n < fit.count; ++n) {
-      st.vertex[n] = n < 3 ? tri[n] : extras[t][n - 3];
+      st.vertex[n] = n < 3 ? triangles[t][n] : extras[t][n - 3];
       st.w_uu[n] = fit.w[0][n];
       st.w_vv[n] = fit.w[1][n];
       st.w_uv[n] = fit.w[2][n];
@@ -408,13 +646,13 @@ BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv,
   // Assemble Q = sum_T A_T (D11 w_uu w_uu^T + D22 w_vv w_vv^T + 4 D66 w_uv w_uv^T).
   const double c_uu = model.bending_weft, c_vv = model.bending_warp, c_uv = 4.0 * model.twist;
   std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(static_cast<size_t>(T) * 36);
+  entries.reserve(static_cast<size_t>(T) * 40);
   for (const BendingStencil& st : model.stencils) {
     for (int a = 0; a < st.count; ++a) {
       for (int b = 0; b < st.count; ++b) {
-        const double value = st.area * (c_uu * st.w_uu[a] * st.w_uu[b] +
-                                        c_vv * st.w_vv[a] * st.w_vv[b] +
-                                        c_uv * st.w_uv[a] * st.w_uv[b]);
+        const double value =
+            st.area * (c_uu * st.w_uu[a] * st.w_uu[b] + c_vv * st.w_vv[a] * st.w_vv[b] +
+                       c_uv * st.w_uv[a] * st.w_uv[b]);
         entries.emplace_back(st.vertex[a], st.vertex[b], value);
       }
     }

@@ -1,24 +1,29 @@
-// Bending of the cloth sheet: a discrete plate energy E = sum over triangles of
-// A_T/2 (B_weft |x_uu|^2 + B_warp |x_vv|^2 + (B_weft + B_warp) |x_uv|^2), where x_uu, x_vv,
-// x_uv are second derivatives of the 3D position with respect to the rest coordinates
-// (u = weft, v = warp), estimated on each triangle by a quadratic patch through the
-// triangle and the three vertices across its edges (the apices of its three hinges).
+// Bending of the cloth sheet (flexural rigidity B, N*m; energy per area B/2 k^2).
 //
-// For an isometric deformation of the flat rest sheet (cloth barely stretches) these
-// second derivatives are normal to the surface and their norms are the curvatures, so the
-// energy is the orthotropic plate energy 1/2 (D11 k_uu^2 + D22 k_vv^2 + 4 D66 k_uv^2) with
-// D11 = B_weft, D22 = B_warp, D66 = (B_weft + B_warp)/4: a sheet rolled on a cylinder of
-// curvature k has energy B(phi)/2 k^2 per area, B(phi) = B_weft cos^2 phi + B_warp sin^2 phi,
-// phi the angle between the direction of curvature and u. This is the "isometric bending"
-// idea of Bergou et al. 2006 (quadratic energy, constant Hessian, flat sheet in the kernel)
-// with a Hessian operator that is exact for quadratic fields on any triangulation, so the
-// energy converges on irregular meshes (dihedral-angle and cotangent hinge energies do not:
-// see docs/bending.md).
+// Discrete plate energy, summed over the triangles T of the flat rest sheet:
+//   E = sum_T A_T/2 (B_weft |x_uu|^2 + B_warp |x_vv|^2 + (B_weft + B_warp) |x_uv|^2),
+// where x_uu, x_vv, x_uv are the second derivatives of the 3D position with respect to the
+// rest coordinates (u = weft, v = warp), estimated on each triangle by the quadratic patch
+// through its 3 corners and the 3 apices of its hinges (the union of the triangle's three
+// 4-vertex hinge stencils; nearby vertices replace apices missing at boundaries). The
+// estimate is exact whenever x is a quadratic function of (u, v), on any triangulation.
 //
-// The energy is a quadratic form, E = 1/2 sum_{c=x,y,z} X_c^T Q X_c with one constant
-// symmetric positive semi-definite V x V matrix Q (N/m) whose kernel is exactly the affine
-// maps of the rest plane. Forces are -Q x and the force Jacobian is -Q (x) I3, exact,
-// constant, symmetric and negative semi-definite.
+// For an isometric deformation of the flat rest sheet (cloth barely stretches) the second
+// derivatives are normal to the surface and their norms are the curvatures, so E is the
+// orthotropic plate energy 1/2 (D11 k_uu^2 + D22 k_vv^2 + 4 D66 k_uv^2) with D11 = B_weft,
+// D22 = B_warp, D66 = (B_weft + B_warp)/4: a sheet rolled on a cylinder of curvature k has
+// energy B(phi)/2 k^2 per area, B(phi) = B_weft cos^2 phi + B_warp sin^2 phi, phi being the
+// angle between u and the direction along which the sheet curves. Bending about an axis
+// along v curves the weft (u) yarns and costs B_weft; about an axis along u, B_warp.
+// This is the "isometric bending" idea of Bergou et al. 2006 (quadratic energy, constant
+// Hessian, flat sheet in the kernel) with a second-derivative operator that is consistent
+// on irregular meshes, where hinge (dihedral-angle or cotangent) energies are not: see
+// docs/bending.md.
+//
+// E is a quadratic form, E = 1/2 sum_{c=x,y,z} X_c^T Q X_c with one constant symmetric
+// positive semi-definite V x V matrix Q (N/m) whose kernel is exactly the affine maps of
+// the rest plane. Forces are -Q x; the force Jacobian is -Q (x) I3: exact, constant,
+// symmetric, negative semi-definite.
 #pragma once
 
 #include <Eigen/Sparse>
@@ -33,13 +38,13 @@ namespace tissu {
 // sum_j w_uu[j] x[vertex[j]] (exact when x is a quadratic function of (u, v)); the same for
 // vv and uv.
 struct BendingStencil {
-  static constexpr int kMaxNodes = 6;
-  int count = 0;                  // nodes used: 3 triangle corners + up to 3 extra vertices
-  int vertex[kMaxNodes] = {};     // vertex ids; [0..2] are the triangle's corners
-  double w_uu[kMaxNodes] = {};    // 1/m^2
-  double w_vv[kMaxNodes] = {};    // 1/m^2
-  double w_uv[kMaxNodes] = {};    // 1/m^2
-  double area = 0.0;              // rest area of the triangle, m^2
+  static constexpr int kMaxNodes = 15;
+  int count = 0;                // nodes used: 3 triangle corners + 3 extra vertices (up to 12)
+  int vertex[kMaxNodes] = {};   // vertex ids; [0..2] are the triangle's corners
+  double w_uu[kMaxNodes] = {};  // 1/m^2
+  double w_vv[kMaxNodes] = {};  // 1/m^2
+  double w_uv[kMaxNodes] = {};  // 1/m^2
+  double area = 0.0;            // rest area of the triangle, m^2
 };
 
 struct BendingModel {
@@ -54,17 +59,25 @@ struct BendingModel {
   Eigen::SparseMatrix<double, Eigen::RowMajor> stiffness;
 
   // Diagnostics of the precomputation.
-  int boundary_stencils = 0;  // triangles with a boundary edge (extra vertices chosen nearby)
-  int fallback_stencils = 0;  // interior triangles whose hinge apices were ill-conditioned
+  // Triangles with fewer than 3 distinct hinge apices (a boundary or non-manifold edge, or
+  // a corner of valence 3): the missing extra vertices were chosen nearby.
+  int boundary_stencils = 0;
+  // Interior triangles whose hinge apices were ill-conditioned (nearly on one conic with
+  // the corners): a better-conditioned set of nearby vertices containing one apex was used.
+  int fallback_stencils = 0;
+  // Needle or cap triangles whose interpolating patch still had large weights: a
+  // least-squares quadratic over up to 12 nearby vertices was used instead.
+  int least_squares_stencils = 0;
   double max_amplification = 0.0;  // max over triangles of |w|_F l^2 (l^2: mean squared edge)
 };
 
 // Precomputes the bending model of a flat rest sheet with coordinates `rest_uv` (m).
-// `bending_weft` is B for curvature along u (N*m); `bending_warp` is B for curvature along
-// v, < 0 meaning the same as `bending_weft` (isotropic). Throws InputError for a vertex id
+// `bending_weft` (N*m) is B for bending that curves the weft (u) yarns, about an axis along
+// v; `bending_warp` (N*m) the same for the warp (v) yarns, < 0 meaning the same as
+// `bending_weft` (isotropic). Throws InputError for a vertex id
 // out of range, a degenerate rest triangle, or a negative `bending_weft`.
-BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv,
-                           double bending_weft, double bending_warp);
+BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv, double bending_weft,
+                           double bending_warp);
 
 // Bending energy at positions x (V), J.
 double bending_energy(const BendingModel& model, const Vec3List& x);
