@@ -1,6 +1,9 @@
 #version 330 core
-// One triangle that covers the whole screen; no vertex buffer needed.
+// Screen-space triangles (normalized device x, y) covering what the ground does not: at
+// the far end of the depth range, drawn last with GL_LEQUAL, they fill only the samples
+// that nothing else covered.
+layout(location = 0) in vec2 a_position;
+
 void main() {
-  vec2 corner = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);
-  gl_Position = vec4(corner, 0.0, 1.0);
+  gl_Position = vec4(a_position, 1.0, 1.0);
 }

@@ -18,11 +18,17 @@ out vec3 v_normal;
 
 #ifdef PLANE
 uniform vec3 u_albedo;        // linear
-uniform mat4 u_light_matrix;  // world -> key light clip space (shadow map)
-out vec4 v_light_clip;
 flat out vec3 v_front_lit;     // front side in full light
 flat out vec3 v_front_shaded;  // front side without the key light
 flat out vec3 v_back_lit;      // back side
+#endif
+#ifdef RECEIVE_SHADOW
+uniform mat4 u_light_matrix;  // world -> key light clip space (shadow map)
+out vec4 v_light_clip;
+#endif
+#ifdef GROUND
+uniform vec3 u_under_albedo;   // linear: a plane obstacle lying in the ground
+flat out vec3 v_under_lit;
 #endif
 
 void main() {
@@ -34,7 +40,12 @@ void main() {
   v_front_lit = shade(u_albedo, n, world.xyz, 1.0, 0.0, 1.0);
   v_front_shaded = shade(u_albedo, n, world.xyz, 1.0, 0.0, 0.0);
   v_back_lit = shade(u_albedo, -n, world.xyz, 1.0, 0.0, 1.0);
+#endif
+#ifdef RECEIVE_SHADOW
   v_light_clip = u_light_matrix * world;
+#endif
+#ifdef GROUND
+  v_under_lit = shade(u_under_albedo, n, world.xyz, 1.0, 0.0, 1.0);
 #endif
   gl_Position = u_view_projection * world;
 }

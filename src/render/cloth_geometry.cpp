@@ -55,4 +55,27 @@ void cloth_corners(const FrameContent& content, std::vector<MeshVertex>& corners
   }
 }
 
+void cloth_vertices(const FrameContent& content, std::vector<ClothVertex>& vertices) {
+  const Vec3List normals = vertex_normals(content.positions, content.triangles);
+  vertices.resize(content.positions.size());
+  for (size_t v = 0; v < vertices.size(); ++v) {
+    vertices[v].position = to_glm(content.positions[v]);
+    vertices[v].normal = to_glm(normals[v]);
+  }
+}
+
+void cloth_topology(const FrameContent& content, std::vector<uint32_t>& indices,
+                    std::vector<glm::vec2>& uv) {
+  indices.resize(content.triangles.size() * 3);
+  size_t c = 0;
+  for (const Tri& t : content.triangles) {
+    for (int k = 0; k < 3; ++k) indices[c++] = static_cast<uint32_t>(t[k]);
+  }
+  uv.assign(content.positions.size(), glm::vec2(0.0f));
+  for (size_t v = 0; v < content.rest_uv.size() && v < uv.size(); ++v) {
+    uv[v] = glm::vec2(static_cast<float>(content.rest_uv[v].x()),
+                      static_cast<float>(content.rest_uv[v].y()));
+  }
+}
+
 }  // namespace tissu

@@ -39,4 +39,28 @@ class MeshBuffer {
   bool indexed_ = false;
 };
 
+// The cloth drawn with shared vertices and indices: the triangles and rest (u, v) are
+// uploaded when they change (once per run), positions and normals every frame.
+struct ClothVertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+};
+
+class ClothBuffer {
+ public:
+  ClothBuffer();
+  // `uv` may be empty (no pattern): zeros are used. Skips the upload when unchanged.
+  void set_topology(const std::vector<uint32_t>& indices, const std::vector<glm::vec2>& uv);
+  void upload_vertices(const std::vector<ClothVertex>& vertices);
+  void draw() const;
+  bool empty() const { return count_ == 0; }
+
+ private:
+  GlVertexArray vao_;
+  GlBuffer vertices_, uv_, indices_;
+  std::vector<uint32_t> indices_uploaded_;
+  std::vector<glm::vec2> uv_uploaded_;
+  GLsizei count_ = 0;
+};
+
 }  // namespace tissu

@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "render/gl_objects.h"
+#include "render/pass_timer.h"
 #include "render/render_error.h"
 
 namespace tissu {
@@ -176,13 +177,14 @@ void OffscreenContext::bind_draw_target() {
   glViewport(0, 0, width_, height_);
 }
 
-void OffscreenContext::read_rgb(std::vector<uint8_t>& out) {
+void OffscreenContext::read_rgb(std::vector<uint8_t>& out, PassTimer* timer) {
   const GLuint source = samples_ > 1 ? fbo_->resolve.get() : fbo_->draw.get();
   if (samples_ > 1) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_->draw.get());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_->resolve.get());
     glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT,
                       GL_NEAREST);
+    if (timer) timer->lap("MSAA resolve");
   }
   glBindFramebuffer(GL_READ_FRAMEBUFFER, source);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
@@ -193,6 +195,7 @@ void OffscreenContext::read_rgb(std::vector<uint8_t>& out) {
   rgba_.resize(width * height_ * 4);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
   check_gl("offscreen context: reading pixels");
+  if (timer) timer->lap("glReadPixels");
   // GL's first row is the bottom one; images are stored top row first.
   out.resize(width * height_ * 3);
   for (int y = 0; y < height_; ++y) {
@@ -204,6 +207,7 @@ void OffscreenContext::read_rgb(std::vector<uint8_t>& out) {
       to[3 * x + 2] = from[4 * x + 2];
     }
   }
+  if (timer) timer->lap("RGBA to RGB, flip (CPU)");
   bind_draw_target();
 }
 

@@ -10,6 +10,8 @@
 
 namespace tissu {
 
+class PassTimer;
+
 class OffscreenContext {
  public:
   // msaa: samples per pixel requested (1, 2 or 4). Throws RenderError with the
@@ -24,7 +26,8 @@ class OffscreenContext {
   // Binds the (multisampled) framebuffer that frames are drawn into, and sets the viewport.
   void bind_draw_target();
   // Resolves the samples and reads the image: width*height*3 bytes, first row at the top.
-  void read_rgb(std::vector<uint8_t>& out);
+  // `timer`, when given, times the resolve, the read-back and the conversion.
+  void read_rgb(std::vector<uint8_t>& out, PassTimer* timer = nullptr);
 
   int width() const { return width_; }
   int height() const { return height_; }

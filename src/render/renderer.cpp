@@ -5,8 +5,10 @@
 #include <cmath>
 
 #include "render/cloth_geometry.h"
+#include "render/ground_geometry.h"
 #include "render/obstacle_meshes.h"
 #include "render/offscreen_context.h"
+#include "render/pass_timer.h"
 #include "render/render_error.h"
 #include "render/scene_bounds.h"
 #include "render/shader_files.h"
@@ -19,9 +21,13 @@ namespace tissu {
 
 namespace {
 
+// 1024 texels across the casters' bounding sphere; one bilinear depth comparison per
+// ground pixel (512 texels showed speckles along the cloth's shadow edge).
 constexpr int kShadowMapSize = 1024;
 const Vec3 kObstacleColor(0.60, 0.64, 0.70);
 const Vec3 kPlaneColor(0.70, 0.70, 0.66);
+// A plane obstacle this close to the ground (same side up) is drawn as part of the ground.
+constexpr double kGroundMergeDistance = 0.01;  // m
 
 // Scene colours are display values; lighting is done in linear light, with gamma 2
 // (the shaders convert back with a square root).
@@ -46,6 +52,24 @@ ObstacleShape ground_plane(const Ground& ground) {
   return plane;
 }
 
+// Shader variant defines for the lit programs.
+std::vector<std::string> lit_defines(const RenderSettings& s, std::vector<std::string> more = {}) {
+  more.push_back("LIGHT_COUNT " + std::to_string(s.lights.size()));
+  return more;
+}
+
+std::vector<std::string> cloth_defines(const RenderSettings& s) {
+  std::vector<std::string> d = {"PATTERN " + std::to_string(pattern_code(s.cloth.pattern))};
+  if (s.cloth.wireframe) d.push_back("WIREFRAME");
+  return lit_defines(s, d);
+}
+
+std::vector<std::string> ground_defines(const RenderSettings& s, bool shadow) {
+  std::vector<std::string> d = {"PLANE", "GROUND"};
+  if (shadow) d.push_back("RECEIVE_SHADOW");
+  return lit_defines(s, d);
+}
+
 }  // namespace
 
 struct Renderer::Impl {
@@ -54,19 +78,29 @@ struct Renderer::Impl {
         context(s.width, s.height, s.msaa),
         shader_dirs(shader_search_dirs(shader_dir)),
         background("background.vert", "background.frag", shader_dirs),
-        cloth("cloth.vert", "cloth.frag", shader_dirs),
+        cloth("cloth.vert", "cloth.frag", shader_dirs, cloth_defines(s)),
         shadow("shadow.vert", "shadow.frag", shader_dirs),
-        solid("obstacle.vert", "obstacle.frag", shader_dirs),
-        plane("obstacle.vert", "obstacle.frag", shader_dirs, {"PLANE"}),
+        solid("obstacle.vert", "obstacle.frag", shader_dirs, lit_defines(s)),
+        plane("obstacle.vert", "obstacle.frag", shader_dirs, lit_defines(s, {"PLANE"})),
         text(shader_dirs, s.width, s.height),
-        empty_vao(make_vertex_array()) {
+        background_vao(make_vertex_array()),
+        background_vertices(make_buffer()) {
+    glBindVertexArray(background_vao.get());
+    glBindBuffer(GL_ARRAY_BUFFER, background_vertices.get());
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(glm::vec2), nullptr);
+    glBindVertexArray(0);
     sphere.upload(unit_sphere(64, 32));
     cylinder.upload(unit_cylinder(64));
     square.upload(unit_square());
-    if (settings.ground && settings.ground->shadow) {
-      shadow_map = std::make_unique<ShadowMap>(kShadowMapSize);
+    if (settings.ground) {
       ground = std::make_unique<ShaderProgram>("obstacle.vert", "obstacle.frag", shader_dirs,
-                                               std::vector<std::string>{"PLANE", "RECEIVE_SHADOW"});
+                                               ground_defines(s, false));
+      if (settings.ground->shadow) {
+        shadow_map = std::make_unique<ShadowMap>(kShadowMapSize);
+        ground_shadowed = std::make_unique<ShaderProgram>(
+            "obstacle.vert", "obstacle.frag", shader_dirs, ground_defines(s, true));
+      }
     }
     if (settings.camera.fixed()) {
       camera = Camera{*settings.camera.eye, *settings.camera.target, settings.camera.up,
@@ -77,11 +111,16 @@ struct Renderer::Impl {
 
   void draw(const FrameContent& content);
   void set_lights(const ShaderProgram& program) const;
+  void upload_cloth(const FrameContent& content);
+  void draw_cloth_geometry() const;
   void draw_shadow_map(const FrameContent& content, const Box3& casters);
-  void draw_background();
-  void draw_plane(const ObstacleShape& shape, const Vec3& color, bool shadowed);
-  void draw_obstacles(const FrameContent& content);
+  void draw_background(bool ground_drawn);
+  void set_plane_uniforms(const ShaderProgram& program, const glm::mat4& model, const Vec3& color);
+  void draw_plane(const ObstacleShape& shape, const Vec3& color);
+  void draw_ground(const ObstacleShape* merged_plane);
+  void draw_solids(const FrameContent& content);
   void draw_cloth();
+  const ObstacleShape* plane_merged_into_ground(const FrameContent& content) const;
 
   double aspect() const { return static_cast<double>(settings.width) / settings.height; }
   // Half size of the squares that stand for planes: well past the framed scene.
@@ -93,22 +132,36 @@ struct Renderer::Impl {
   OffscreenContext context;  // first: everything below lives in this context
   std::vector<std::string> shader_dirs;
   ShaderProgram background, cloth, shadow;
-  ShaderProgram solid;                    // spheres and cylinders
-  ShaderProgram plane;                    // plane obstacles, and the ground without shadow
-  std::unique_ptr<ShaderProgram> ground;  // the ground receiving the key light's shadow
+  ShaderProgram solid;  // spheres and cylinders
+  ShaderProgram plane;  // plane obstacles (blended at their fading edge)
+  std::unique_ptr<ShaderProgram> ground;           // the ground, without shadow
+  std::unique_ptr<ShaderProgram> ground_shadowed;  // the ground receiving the key light's shadow
   TextOverlay text;
-  GlVertexArray empty_vao;  // core profile draws need a bound vertex array
-  MeshBuffer cloth_mesh, sphere, cylinder, square;
+  GlVertexArray background_vao;
+  GlBuffer background_vertices;
+  MeshBuffer cloth_corners_mesh, sphere, cylinder, square;
+  MeshBuffer ground_inner, ground_outer;  // the ground where shadow can fall, and the rest
+  Box3 casters;  // bounds of what casts the ground shadow this frame
+  std::vector<glm::vec4> ground_outline;  // clip space, this frame
+  ClothBuffer cloth_mesh;
   std::unique_ptr<ShadowMap> shadow_map;
   std::optional<Camera> camera;
-  std::vector<MeshVertex> corners;  // reused between frames
+  // Reused between frames.
+  std::vector<MeshVertex> corners;
+  std::vector<ClothVertex> vertices;
+  TriList triangles_uploaded;
+  Vec2List uv_uploaded;
+  std::vector<uint32_t> indices;
+  std::vector<glm::vec2> uv;
   glm::mat4 view_projection{1.0f};
   bool shadows_drawn = false;
   bool has_frame = false;
+  PassTimer timer;
 };
 
 void Renderer::Impl::draw(const FrameContent& content) {
   context.make_current();
+  timer.start();
   check_cloth(content);
   std::optional<double> ground_height;
   if (settings.ground) ground_height = settings.ground->height;
@@ -132,27 +185,68 @@ void Renderer::Impl::draw(const FrameContent& content) {
   if (extent.empty()) extent.push_back(camera->target);
   view_projection = projection_matrix(*camera, aspect(), extent) * view_matrix(*camera);
 
-  cloth_corners(content, corners);
-  cloth_mesh.upload_triangles(corners);
+  upload_cloth(content);
+  casters = bounds;
 
   shadows_drawn = false;
   if (shadow_map && !settings.lights.empty() && !bounds.isEmpty()) {
     draw_shadow_map(content, bounds);
+    timer.lap("shadow map");
   }
   context.bind_draw_target();
-  glClearColor(0, 0, 0, 1);
+  // Every sample gets a colour below (the background fills what nothing covers), so only
+  // depth needs clearing.
   glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  draw_background();
+  glClear(GL_DEPTH_BUFFER_BIT);
+  timer.lap("clear");
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  // Front to back (roughly), so the depth test spares hidden fragments their shading.
+  // Opaque surfaces front to back (roughly), so the depth test spares hidden fragments
+  // their shading; then the background behind all of them; then what is blended.
   draw_cloth();
-  draw_obstacles(content);
-  if (settings.ground) draw_plane(ground_plane(*settings.ground), settings.ground->color, true);
+  timer.lap("cloth");
+  draw_solids(content);
+  timer.lap("spheres and cylinders");
+  const ObstacleShape* merged = plane_merged_into_ground(content);
+  if (settings.ground) draw_ground(merged);
+  timer.lap("ground");
+  draw_background(settings.ground.has_value());
+  timer.lap("background");
+  for (const ObstacleShape& o : content.obstacles) {
+    if (o.kind == ObstacleShape::Kind::Plane && &o != merged) draw_plane(o, kPlaneColor);
+  }
+  timer.lap("planes");
   text.draw(settings.caption, content.overlay_lines);
+  timer.lap("text");
   check_gl("renderer: drawing a frame");
   has_frame = true;
+}
+
+void Renderer::Impl::upload_cloth(const FrameContent& content) {
+  if (settings.cloth.wireframe) {
+    cloth_corners(content, corners);
+    timer.lap("cloth normals (CPU)");
+    cloth_corners_mesh.upload_triangles(corners);
+  } else {
+    cloth_vertices(content, vertices);
+    timer.lap("cloth normals (CPU)");
+    if (content.triangles != triangles_uploaded || content.rest_uv != uv_uploaded) {
+      cloth_topology(content, indices, uv);
+      cloth_mesh.set_topology(indices, uv);
+      triangles_uploaded = content.triangles;
+      uv_uploaded = content.rest_uv;
+    }
+    cloth_mesh.upload_vertices(vertices);
+  }
+  timer.lap("cloth upload");
+}
+
+void Renderer::Impl::draw_cloth_geometry() const {
+  if (settings.cloth.wireframe) {
+    cloth_corners_mesh.draw();
+  } else {
+    cloth_mesh.draw();
+  }
 }
 
 void Renderer::Impl::set_lights(const ShaderProgram& program) const {
@@ -161,7 +255,6 @@ void Renderer::Impl::set_lights(const ShaderProgram& program) const {
     towards.push_back(-glm::normalize(to_glm(light.direction)));
     radiance.push_back(linear(light.color) * static_cast<float>(light.intensity));
   }
-  program.set("u_light_count", static_cast<int>(settings.lights.size()));
   program.set("u_light_to", towards);
   program.set("u_light_radiance", radiance);
   program.set("u_eye", to_glm(camera->eye));
@@ -177,34 +270,46 @@ void Renderer::Impl::draw_shadow_map(const FrameContent& content, const Box3& ca
   shadow.use();
   shadow.set("u_light_matrix", shadow_map->light_matrix());
   shadow.set("u_model", glm::mat4(1.0f));
-  cloth_mesh.draw();
+  draw_cloth_geometry();
+  // Spheres and cylinders are closed: their sides facing the light make the whole shadow.
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
   for (const ObstacleShape& o : content.obstacles) {
     if (o.kind == ObstacleShape::Kind::Plane) continue;
     shadow.set("u_model", obstacle_model(o, glm::vec3(0.0f), 0.0f));
     (o.kind == ObstacleShape::Kind::Sphere ? sphere : cylinder).draw();
   }
+  glDisable(GL_CULL_FACE);
   glDisable(GL_POLYGON_OFFSET_FILL);
   shadows_drawn = true;
 }
 
-void Renderer::Impl::draw_background() {
-  glDisable(GL_DEPTH_TEST);
+void Renderer::Impl::draw_background(bool ground_drawn) {
+  // Where the ground is drawn it already shows the background at its fading edge: cover
+  // only the rest (overlapping the ground's outline by 2 pixels; the depth test sorts it out).
+  const std::vector<glm::vec2> triangles =
+      ground_drawn ? outside_of_polygon(ground_outline, settings.width, settings.height, 2.0)
+                   : outside_of_polygon({}, settings.width, settings.height, 0.0);
+  if (triangles.empty()) return;
+  // At the far end of the depth range: only samples nothing else covered pass.
+  glDepthFunc(GL_LEQUAL);
   glDepthMask(GL_FALSE);
   background.use();
   background.set("u_top", to_glm(settings.background.top));
   background.set("u_bottom", to_glm(settings.background.bottom));
   background.set("u_height", static_cast<float>(settings.height));
-  glBindVertexArray(empty_vao.get());
-  glDrawArrays(GL_TRIANGLES, 0, 3);  // one triangle covering the screen
+  glBindBuffer(GL_ARRAY_BUFFER, background_vertices.get());
+  glBufferData(GL_ARRAY_BUFFER, triangles.size() * sizeof(glm::vec2), triangles.data(),
+               GL_STREAM_DRAW);
+  glBindVertexArray(background_vao.get());
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles.size()));
   glBindVertexArray(0);
   glDepthMask(GL_TRUE);
+  glDepthFunc(GL_LESS);
 }
 
-void Renderer::Impl::draw_plane(const ObstacleShape& shape, const Vec3& color, bool shadowed) {
-  const float half = plane_half_size();
-  const glm::mat4 model = obstacle_model(shape, to_glm(camera->target), half);
-  const bool use_shadow = shadowed && shadows_drawn;
-  const ShaderProgram& program = use_shadow ? *ground : plane;
+void Renderer::Impl::set_plane_uniforms(const ShaderProgram& program, const glm::mat4& model,
+                                        const Vec3& color) {
   program.use();
   set_lights(program);
   program.set("u_view_projection", view_projection);
@@ -213,14 +318,12 @@ void Renderer::Impl::draw_plane(const ObstacleShape& shape, const Vec3& color, b
   program.set("u_albedo", linear(color));
   // Fade the square's edge into the background instead of showing a horizon line.
   program.set("u_fade_center", glm::vec3(model[3]));
-  program.set("u_fade_radius", half);
-  if (use_shadow) {
-    program.set("u_shadow_map", 0);
-    program.set("u_light_matrix", shadow_map->light_matrix());
-    program.set("u_shadow_texel", 1.0f / static_cast<float>(shadow_map->size()));
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, shadow_map->texture());
-  }
+  program.set("u_fade_radius", plane_half_size());
+}
+
+void Renderer::Impl::draw_plane(const ObstacleShape& shape, const Vec3& color) {
+  const glm::mat4 model = obstacle_model(shape, to_glm(camera->target), plane_half_size());
+  set_plane_uniforms(plane, model, color);
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glEnable(GL_POLYGON_OFFSET_FILL);  // cloth resting on the plane stays in front
@@ -230,37 +333,110 @@ void Renderer::Impl::draw_plane(const ObstacleShape& shape, const Vec3& color, b
   glDisable(GL_BLEND);
 }
 
-void Renderer::Impl::draw_obstacles(const FrameContent& content) {
+// A plane obstacle lying in the ground (facing up, at most kGroundMergeDistance below or
+// above it, seen from above) is hidden by the ground except where the ground fades out;
+// the ground shader composites it there, so it is not drawn on its own.
+const ObstacleShape* Renderer::Impl::plane_merged_into_ground(const FrameContent& content) const {
+  if (!settings.ground || camera->eye.z() <= settings.ground->height) return nullptr;
+  for (const ObstacleShape& o : content.obstacles) {
+    if (o.kind != ObstacleShape::Kind::Plane || o.axis.norm() == 0.0) continue;
+    const Vec3 n = o.axis.normalized();
+    if (n.z() > 1.0 - 1e-12 && std::abs(o.center.z() - settings.ground->height) <= kGroundMergeDistance) {
+      return &o;
+    }
+  }
+  return nullptr;
+}
+
+void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane) {
+  // The ground's square, centred below the camera target (as obstacle_model places planes).
+  const double h = settings.ground->height;
+  const double half = plane_half_size();
+  const glm::dvec2 centre(camera->target.x(), camera->target.y());
+  const GroundRect square{centre - glm::dvec2(half), centre + glm::dvec2(half)};
+  ground_outline.clear();
+  for (const glm::dvec2& corner : {square.min, glm::dvec2(square.max.x, square.min.y), square.max,
+                                   glm::dvec2(square.min.x, square.max.y)}) {
+    ground_outline.push_back(view_projection * glm::vec4(static_cast<float>(corner.x),
+                                                         static_cast<float>(corner.y),
+                                                         static_cast<float>(h), 1.0f));
+  }
+  // The shadow look-up runs only where the key light's shadow can fall.
+  std::optional<GroundRect> footprint;
+  if (shadows_drawn && ground_shadowed) {
+    const double texel = 2.04 * 0.5 * casters.diagonal().norm() / shadow_map->size();
+    const double slant = std::max(0.05, std::abs(settings.lights[0].direction.normalized().z()));
+    footprint = shadow_footprint(casters, settings.lights[0].direction, h, 3.0 * texel / slant);
+  }
+  SplitGround split;
+  if (footprint) {
+    split = split_ground(square, h, *footprint);
+  } else {
+    split.outer = ground_mesh(square, h);
+  }
+
+  const glm::mat4 model(1.0f);  // the meshes are in world coordinates
+  const glm::mat4 placement = obstacle_model(ground_plane(*settings.ground),
+                                             to_glm(camera->target), plane_half_size());
+  auto draw_part = [&](const ShaderProgram& program, MeshBuffer& mesh, const IndexedMesh& part,
+                       bool shadowed) {
+    if (part.indices.empty()) return;
+    set_plane_uniforms(program, model, settings.ground->color);
+    program.set("u_fade_center", glm::vec3(placement[3]));
+    program.set("u_top", to_glm(settings.background.top));
+    program.set("u_bottom", to_glm(settings.background.bottom));
+    program.set("u_height", static_cast<float>(settings.height));
+    program.set("u_under", merged_plane ? 1.0f : 0.0f);
+    program.set("u_under_albedo", linear(kPlaneColor));
+    if (shadowed) {
+      program.set("u_shadow_map", 0);
+      program.set("u_light_matrix", shadow_map->light_matrix());
+        glActiveTexture(GL_TEXTURE0);
+      glBindTexture(GL_TEXTURE_2D, shadow_map->texture());
+    }
+    mesh.upload(part);
+    mesh.draw();
+  };
+  glEnable(GL_POLYGON_OFFSET_FILL);  // cloth resting on the ground stays in front
+  glPolygonOffset(1.0f, 2.0f);
+  draw_part(*ground, ground_outer, split.outer, false);
+  if (footprint) draw_part(*ground_shadowed, ground_inner, split.inner, true);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+void Renderer::Impl::draw_solids(const FrameContent& content) {
+  bool first = true;
   for (const ObstacleShape& o : content.obstacles) {
     if (o.kind == ObstacleShape::Kind::Plane) continue;
+    if (first) {
+      solid.use();
+      set_lights(solid);
+      solid.set("u_view_projection", view_projection);
+      solid.set("u_albedo", linear(kObstacleColor));
+      // Closed surfaces: the far side is always hidden by the near side.
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+      first = false;
+    }
     const glm::mat4 model = obstacle_model(o, glm::vec3(0.0f), 0.0f);
-    solid.use();
-    set_lights(solid);
-    solid.set("u_view_projection", view_projection);
     solid.set("u_model", model);
     solid.set("u_normal_matrix", glm::inverseTranspose(glm::mat3(model)));
-    solid.set("u_albedo", linear(kObstacleColor));
     (o.kind == ObstacleShape::Kind::Sphere ? sphere : cylinder).draw();
   }
-  // Planes last: they are blended at their fading edge.
-  for (const ObstacleShape& o : content.obstacles) {
-    if (o.kind == ObstacleShape::Kind::Plane) draw_plane(o, kPlaneColor, false);
-  }
+  glDisable(GL_CULL_FACE);
 }
 
 void Renderer::Impl::draw_cloth() {
-  if (cloth_mesh.empty()) return;
+  if (settings.cloth.wireframe ? cloth_corners_mesh.empty() : cloth_mesh.empty()) return;
   const ClothLook& look = settings.cloth;
   cloth.use();
   set_lights(cloth);
   cloth.set("u_view_projection", view_projection);
   cloth.set("u_front_color", linear(look.front_color));
   cloth.set("u_back_color", linear(look.back_color));
-  cloth.set("u_pattern", pattern_code(look.pattern));
-  cloth.set("u_pattern_size", static_cast<float>(look.pattern_size));
-  cloth.set("u_wireframe", look.wireframe ? 1 : 0);
+  cloth.set("u_cells_per_m", static_cast<float>(2.0 / look.pattern_size));
   cloth.set("u_wireframe_color", to_glm(look.wireframe_color));
-  cloth_mesh.draw();
+  draw_cloth_geometry();
 }
 
 Renderer::Renderer(const RenderSettings& settings, const std::string& shader_dir_override)
@@ -278,8 +454,12 @@ void Renderer::draw(const FrameContent& content) { impl_->draw(content); }
 void Renderer::read_rgb(std::vector<uint8_t>& out) {
   if (!impl_->has_frame) throw RenderError("renderer: read_rgb() called before draw()");
   impl_->context.make_current();
-  impl_->context.read_rgb(out);
+  impl_->timer.start();
+  impl_->context.read_rgb(out, &impl_->timer);
 }
+
+void Renderer::set_pass_timing(bool on) { impl_->timer.enable(on); }
+std::vector<RenderPassTime> Renderer::pass_times() const { return impl_->timer.times(); }
 
 int Renderer::width() const { return impl_->context.width(); }
 int Renderer::height() const { return impl_->context.height(); }

@@ -14,6 +14,15 @@
 
 namespace tissu {
 
+// Time spent in one part of drawing and reading back frames, summed over the frames
+// drawn since pass timing was switched on (Renderer::set_pass_timing).
+struct RenderPassTime {
+  std::string pass;
+  double cpu_s = 0.0;   // CPU time of the whole process (llvmpipe rasterizes on its own threads)
+  double wall_s = 0.0;
+  long long count = 0;  // times the pass ran
+};
+
 class Renderer {
  public:
   // Creates the GL context and compiles the shaders (looked up in
@@ -31,6 +40,11 @@ class Renderer {
   void draw(const FrameContent& content);
   // The last frame drawn: width*height*3 bytes, RGB, first row at the top.
   void read_rgb(std::vector<uint8_t>& out);
+
+  // Profiling: with pass timing on, every pass ends with glFinish() and its time is
+  // recorded (this serializes llvmpipe's work, so a frame takes somewhat longer).
+  void set_pass_timing(bool on);
+  std::vector<RenderPassTime> pass_times() const;
 
   int width() const;
   int height() const;
