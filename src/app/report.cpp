@@ -48,7 +48,8 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
                            {"readback", t.readback}, {"encode", t.encode}, {"encode_wait", t.encode_wait},
                            {"total", t.total}};
   report["ms_per_step"] = result.steps_done > 0 ? 1e3 * t.simulate / result.steps_done : 0.0;
-  if (model.integrator == Integrator::BackwardEuler || model.integrator == Integrator::Bdf2) {
+  if (model.integrator == Integrator::BackwardEuler || model.integrator == Integrator::Bdf2 ||
+      model.integrator == Integrator::ImplicitMidpoint) {
     report["newton_iterations"] = result.newton_iterations;
     report["cg_iterations"] = result.cg_iterations;
   }

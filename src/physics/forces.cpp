@@ -43,7 +43,7 @@ void compute_forces(const Model& model, const Vec3List& x, const Vec3List& v, do
 void compute_force_jacobian(const Model& model, const Vec3List& x, const Vec3List& v, double t,
                             bool project_psd, BlockTriplets& dfdx, BlockTriplets& dfdv) {
   (void)t;
-  add_membrane_jacobian(model, x, project_psd, dfdx, &dfdv);
+  add_membrane_jacobian(model, x, project_psd, dfdx, &dfdv, &v);
   if (model.bending) add_bending_jacobian(*model.bending, x, dfdx);
   if (model.air_damping) {
     for (int i = 0; i < model.num_vertices(); ++i) {
@@ -62,7 +62,6 @@ void compute_force_jacobian(const Model& model, const Vec3List& x, const Vec3Lis
       }
     }
   }
-  (void)v;
 }
 
 }  // namespace tissu

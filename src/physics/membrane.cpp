@@ -130,14 +130,21 @@ double max_principal_strain(const Model& model, const Vec3List& x) {
 //                                        + (R S R^T)_ij I ],  R = [r_u r_v], S = 2x2 stress.
 // The force Jacobian is -H. Damping: df/dv = -tau A sum_ab E_ab de_a/dx_i de_b/dx_j^T.
 void add_membrane_jacobian(const Model& model, const Vec3List& x, bool project_psd,
-                           BlockTriplets& dfdx, BlockTriplets* dfdv) {
+                           BlockTriplets& dfdx, BlockTriplets* dfdv, const Vec3List* v) {
   const Mat3 E = model.material.stiffness();
   const double tau = model.material.damping;
+  const bool viscous = tau > 0.0 && v != nullptr;
   for (size_t t = 0; t < model.triangles.size(); ++t) {
     const Tri& tri = model.triangles[t];
     const TriangleRest& r = model.rest[t];
     const Gradients g = deformation(r, x[tri[0]], x[tri[1]], x[tri[2]]);
-    const Vec3 s = E * green_strain(g);
+    Vec3 strain = green_strain(g);
+    Gradients gd{Vec3::Zero(), Vec3::Zero()};  // dU/dt, dV/dt, 1/s
+    if (viscous) {
+      gd = deformation(r, (*v)[tri[0]], (*v)[tri[1]], (*v)[tri[2]]);
+      strain += tau * Vec3(g.U.dot(gd.U), g.V.dot(gd.V), g.U.dot(gd.V) + gd.U.dot(g.V));
+    }
+    const Vec3 s = E * strain;  // elastic + viscous stress, N/m
 
     Eigen::Matrix2d S;
     S << s[0], s[2], s[2], s[1];
@@ -162,6 +169,14 @@ void add_membrane_jacobian(const Model& model, const Vec3List& x, bool project_p
                                  (r.ru[i] * r.rv[j] + r.rv[i] * r.ru[j]) * S(0, 1);
         Mat3 block = material;
         block.diagonal().array() += geometric;
+        if (viscous && !project_psd) {
+          // d(strain rate)/dx_j has the columns of J[j] with (U, V) -> (dU/dt, dV/dt).
+          Eigen::Matrix3d Jd;
+          Jd.col(0) = r.ru[j] * gd.U;
+          Jd.col(1) = r.rv[j] * gd.V;
+          Jd.col(2) = r.ru[j] * gd.V + r.rv[j] * gd.U;
+          block += tau * (JiE * Jd.transpose());
+        }
         dfdx.add(tri[i], tri[j], -r.area * block);
         if (dfdv != nullptr && tau > 0.0) dfdv->add(tri[i], tri[j], -r.area * tau * material);
       }

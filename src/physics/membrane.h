@@ -33,7 +33,11 @@ double max_principal_strain(const Model& model, const Vec3List& x);
 // Adds df/dx (N/m) of the membrane force, and df/dv (N*s/m) of its damping when `dfdv` is
 // given. With `project_psd` the stress (geometric) term uses the nearest positive
 // semi-definite 2x2 stress, so -df/dx is positive semi-definite (for Newton/CG solves).
+// With damping and velocities `v`, df/dx also carries the damping force's dependence on x:
+// the viscous stress joins the stress term, and without `project_psd` the (non-symmetric)
+// term -tau A J_i E dJ_j^T/dt is added too (dropped when projecting).
 void add_membrane_jacobian(const Model& model, const Vec3List& x, bool project_psd,
-                           BlockTriplets& dfdx, BlockTriplets* dfdv);
+                           BlockTriplets& dfdx, BlockTriplets* dfdv,
+                           const Vec3List* v = nullptr);
 
 }  // namespace tissu

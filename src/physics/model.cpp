@@ -30,6 +30,7 @@ const char* integrator_name(Integrator integrator) {
     case Integrator::BenameurDjedi: return "benameur_djedi";
     case Integrator::BackwardEuler: return "backward_euler";
     case Integrator::Bdf2: return "bdf2";
+    case Integrator::ImplicitMidpoint: return "implicit_midpoint";
   }
   return "unknown";
 }

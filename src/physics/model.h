@@ -68,6 +68,7 @@ enum class Integrator {
   BenameurDjedi,    // the paper's algorithm as printed, h F / (2 m)
   BackwardEuler,    // eq. 11, Newton + PCG
   Bdf2,             // second-order backward differentiation
+  ImplicitMidpoint, // implicit midpoint rule, Newton + PCG
 };
 const char* integrator_name(Integrator integrator);
 

@@ -123,6 +123,7 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
       break;
     case Integrator::BackwardEuler:
     case Integrator::Bdf2:
+    case Integrator::ImplicitMidpoint:
       integrate_implicit(model, state, ws);
       break;
   }

@@ -3,6 +3,7 @@
 //   -> advance time -> divergence check.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -10,6 +11,8 @@
 #include "physics/model.h"
 
 namespace tissu {
+
+struct ImplicitSolver;  // physics/implicit.cpp: Newton/PCG caches of the implicit steps
 
 // Scratch memory reused across steps (no allocation in the step after the first).
 struct Workspace {
@@ -20,6 +23,9 @@ struct Workspace {
   // Implicit solver statistics of the last step.
   int newton_iterations = 0;
   int cg_iterations = 0;
+  // Jacobian pattern and solver scratch of the implicit integrators, created by the first
+  // implicit step (copies of a Workspace share it: do not step copies concurrently).
+  std::shared_ptr<ImplicitSolver> implicit;
 };
 
 struct Divergence {

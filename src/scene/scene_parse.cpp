@@ -14,11 +14,12 @@ namespace {
 Integrator parse_integrator(JsonReader& root) {
   const std::string name =
       root.choice("integrator", {"explicit_euler", "symplectic_euler", "benameur_djedi",
-                                 "backward_euler", "bdf2"});
+                                 "backward_euler", "bdf2", "implicit_midpoint"});
   if (name == "explicit_euler") return Integrator::ExplicitEuler;
   if (name == "symplectic_euler") return Integrator::SymplecticEuler;
   if (name == "benameur_djedi") return Integrator::BenameurDjedi;
   if (name == "backward_euler") return Integrator::BackwardEuler;
+  if (name == "implicit_midpoint") return Integrator::ImplicitMidpoint;
   return Integrator::Bdf2;
 }
 

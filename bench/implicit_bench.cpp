@@ -1,0 +1,117 @@
+// Cost of the implicit integrators on a hanging sheet of about 5000 triangles: Newton and
+// conjugate-gradient iterations per step and milliseconds per step (one core), with the
+// time split into Jacobian assembly, preconditioner, CG and residual evaluations.
+//   ./build/bench/tissu_implicit_bench [triangles] [material] [seconds] [cg_tolerance]
+// defaults: 5000 linen 0.5 1e-8; runs dt = 1/60 s and 1/600 s, backward Euler with one Newton
+// iteration and with Newton to convergence, and BDF-2. Times are processor time (std::clock).
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <string>
+
+#include "mesh/generate.h"
+#include "physics/bending.h"
+#include "physics/diagnostics.h"
+#include "physics/implicit.h"
+#include "physics/materials.h"
+#include "physics/membrane.h"
+#include "physics/step.h"
+
+using namespace tissu;
+
+namespace {
+
+struct Setup {
+  Model model;
+  State state;
+};
+
+// A 1 m x 1 m sheet held at its two top corners, released flat and vertical (in the x-z
+// plane) at rest: it stretches and sags under gravity and swings gently.
+Setup make_setup(int triangles, const std::string& material) {
+  TriMesh mesh = generate_rectangle(1.0, 1.0, triangles, /*irregular=*/true, /*seed=*/1);
+  Setup s;
+  s.model.triangles = mesh.triangles;
+  s.model.rest_uv = mesh.rest_uv;
+  s.model.material = *material_preset(material);
+  s.model.gravity = Vec3(0, 0, -9.81);
+  s.model.air_damping = 0.1;
+  const int n = static_cast<int>(mesh.rest_uv.size());
+  s.model.pinned.assign(n, 0);
+  int top_left = 0, top_right = 0;
+  for (int i = 0; i < n; ++i) {
+    const Vec2& p = mesh.rest_uv[i];
+    const Vec2& a = mesh.rest_uv[top_left];
+    const Vec2& b = mesh.rest_uv[top_right];
+    if (p.y() - p.x() > a.y() - a.x()) top_left = i;
+    if (p.y() + p.x() > b.y() + b.x()) top_right = i;
+  }
+  s.model.pinned[top_left] = s.model.pinned[top_right] = 1;
+  precompute_rest(s.model);
+  if (s.model.material.bending > 0.0) {
+    s.model.bending = std::make_shared<const BendingModel>(
+        build_bending(s.model.triangles, s.model.rest_uv, s.model.material.bending,
+                      s.model.material.bending_warp));
+  }
+  for (const Vec2& p : mesh.rest_uv) s.state.x.emplace_back(p.x(), 0.0, p.y());
+  s.state.v.assign(n, Vec3::Zero());
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int triangles = argc > 1 ? std::atoi(argv[1]) : 5000;
+  const std::string material = argc > 2 ? argv[2] : "linen";
+  const double seconds = argc > 3 ? std::atof(argv[3]) : 0.5;  // s of simulated time per run
+  const double cg_tolerance = argc > 4 ? std::atof(argv[4]) : ImplicitOptions().cg_tolerance;
+  if (triangles <= 0 || !material_preset(material) || !(seconds > 0.0) || !(cg_tolerance > 0.0)) {
+    std::fprintf(stderr, "usage: %s [triangles] [cotton|linen|silk] [seconds] [cg_tolerance]\n",
+                 argv[0]);
+    return 2;
+  }
+  std::printf(
+      "%s sheet, %.3g s of simulated time per run, newton_tolerance %.0e, cg_tolerance %.0e\n",
+      material.c_str(), seconds, ImplicitOptions().newton_tolerance, cg_tolerance);
+  std::printf("%-16s %-8s %-6s %6s %6s %8s %9s %8s %8s %8s %8s %7s %6s\n", "integrator", "dt",
+              "newton", "tris", "steps", "newton/s", "cg/step", "ms/step", "jac", "precond", "cg",
+              "resid", "strain");
+  struct Run {
+    Integrator integrator;
+    int newton;
+  };
+  for (double dt : {1.0 / 60.0, 1.0 / 600.0}) {
+    for (Run run : {Run{Integrator::BackwardEuler, 1}, Run{Integrator::BackwardEuler, 50},
+                    Run{Integrator::Bdf2, 50}}) {
+      Setup s = make_setup(triangles, material);
+      s.model.integrator = run.integrator;
+      s.model.dt = dt;
+      s.model.implicit.max_newton_iterations = run.newton;
+      s.model.implicit.cg_tolerance = cg_tolerance;
+      Workspace ws;
+      const int steps = std::max(1, static_cast<int>(seconds / dt + 0.5));
+      long newton = 0, cg = 0;
+      double jac = 0, pre = 0, cgt = 0, res = 0;
+      bool diverged = false;
+      const std::clock_t t0 = std::clock();
+      for (int k = 0; k < steps && !diverged; ++k) {
+        diverged = step(s.model, s.state, ws).has_value();
+        const ImplicitReport& r = *last_implicit_report(ws);
+        newton += r.newton_iterations;
+        cg += r.cg_iterations;
+        jac += r.seconds_jacobian;
+        pre += r.seconds_preconditioner;
+        cgt += r.seconds_cg;
+        res += r.seconds_residual;
+      }
+      const double total = static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
+      std::printf("%-16s 1/%-6.0f %-6d %6d %6d %8.2f %9.1f %8.2f %8.2f %8.2f %8.2f %7.2f %6.4f%s\n",
+                  integrator_name(run.integrator), 1.0 / dt, run.newton, s.model.num_triangles(),
+                  steps, double(newton) / steps, double(cg) / steps, 1e3 * total / steps,
+                  1e3 * jac / steps, 1e3 * pre / steps, 1e3 * cgt / steps, 1e3 * res / steps,
+                  max_principal_strain(s.model, s.state.x), diverged ? " DIVERGED" : "");
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,194 @@
+#include "physics/linear_solver.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+
+namespace tissu {
+
+namespace {
+
+// Sorted, duplicate-free pairs into compressed rows.
+void compress(int num_vertices, const std::vector<std::pair<int, int>>& pairs,
+              std::vector<int>& row_start, std::vector<int>& col) {
+  row_start.assign(num_vertices + 1, 0);
+  for (const auto& [i, j] : pairs) row_start[i + 1] += 1;
+  for (int i = 0; i < num_vertices; ++i) row_start[i + 1] += row_start[i];
+  col.resize(pairs.size());
+  for (size_t b = 0; b < pairs.size(); ++b) col[b] = pairs[b].second;
+}
+
+void sort_unique(std::vector<std::pair<int, int>>& pairs) {
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+}
+
+int find_in(const std::vector<int>& row_start, const std::vector<int>& col, int i, int j) {
+  const auto begin = col.begin() + row_start[i], end = col.begin() + row_start[i + 1];
+  const auto it = std::lower_bound(begin, end, j);
+  return (it != end && *it == j) ? static_cast<int>(it - col.begin()) : -1;
+}
+
+}  // namespace
+
+void BlockSparseMatrix::set_pattern(int num_vertices, std::vector<std::pair<int, int>> full,
+                                    std::vector<std::pair<int, int>> diagonal_only) {
+  num_vertices_ = num_vertices;
+  sort_unique(full);
+  sort_unique(diagonal_only);
+  // A pair that is also full is stored once, as a full block.
+  std::vector<std::pair<int, int>> only;
+  only.reserve(diagonal_only.size());
+  std::set_difference(diagonal_only.begin(), diagonal_only.end(), full.begin(), full.end(),
+                      std::back_inserter(only));
+  compress(num_vertices, full, row_start_, col_);
+  compress(num_vertices, only, drow_start_, dcol_);
+  diag_.assign(num_vertices, -1);
+  for (int i = 0; i < num_vertices; ++i) diag_[i] = find(i, i);
+  values_.assign(9 * col_.size() + 3 * dcol_.size(), 0.0);
+}
+
+int BlockSparseMatrix::find(int i, int j) const { return find_in(row_start_, col_, i, j); }
+
+int BlockSparseMatrix::find_entry(int i, int j, int r, int c) const {
+  const int b = find(i, j);
+  if (b >= 0) return 9 * b + 3 * c + r;
+  if (r != c) return -1;
+  const int d = find_in(drow_start_, dcol_, i, j);
+  return d >= 0 ? static_cast<int>(9 * col_.size()) + 3 * d + r : -1;
+}
+
+void BlockSparseMatrix::set_zero() { std::fill(values_.begin(), values_.end(), 0.0); }
+
+void BlockSparseMatrix::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  y.resize(3 * static_cast<Eigen::Index>(num_vertices_));
+  const double* px = x.data();
+  const double* full = values_.data();
+  const double* diagonal_only = values_.data() + 9 * col_.size();
+  for (int i = 0; i < num_vertices_; ++i) {
+    double y0 = 0.0, y1 = 0.0, y2 = 0.0;
+    for (int b = row_start_[i]; b < row_start_[i + 1]; ++b) {
+      const double* a = full + 9 * static_cast<size_t>(b);
+      const double* xj = px + 3 * static_cast<size_t>(col_[b]);
+      y0 += a[0] * xj[0] + a[3] * xj[1] + a[6] * xj[2];
+      y1 += a[1] * xj[0] + a[4] * xj[1] + a[7] * xj[2];
+      y2 += a[2] * xj[0] + a[5] * xj[1] + a[8] * xj[2];
+    }
+    for (int b = drow_start_[i]; b < drow_start_[i + 1]; ++b) {
+      const double* d = diagonal_only + 3 * static_cast<size_t>(b);
+      const double* xj = px + 3 * static_cast<size_t>(dcol_[b]);
+      y0 += d[0] * xj[0];
+      y1 += d[1] * xj[1];
+      y2 += d[2] * xj[2];
+    }
+    y[3 * i] = y0;
+    y[3 * i + 1] = y1;
+    y[3 * i + 2] = y2;
+  }
+}
+
+Eigen::MatrixXd BlockSparseMatrix::to_dense() const {
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(3 * num_vertices_, 3 * num_vertices_);
+  for (int i = 0; i < num_vertices_; ++i) {
+    for (int b = row_start_[i]; b < row_start_[i + 1]; ++b) {
+      dense.block<3, 3>(3 * i, 3 * col_[b]) = Eigen::Map<const Mat3>(block_values(b));
+    }
+    for (int b = drow_start_[i]; b < drow_start_[i + 1]; ++b) {
+      const double* d = values_.data() + 9 * col_.size() + 3 * static_cast<size_t>(b);
+      for (int c = 0; c < 3; ++c) dense(3 * i + c, 3 * dcol_[b] + c) = d[c];
+    }
+  }
+  return dense;
+}
+
+void BlockJacobiPreconditioner::compute(const BlockSparseMatrix& A) {
+  const int n = A.num_vertices();
+  inverse_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const int d = A.diagonal(i);
+    if (d < 0) {
+      inverse_[i].setZero();
+      continue;
+    }
+    const Mat3 block = Eigen::Map<const Mat3>(A.block_values(d));
+    Eigen::LLT<Mat3> llt(block);
+    if (llt.info() == Eigen::Success) {
+      inverse_[i] = llt.solve(Mat3::Identity());
+    } else {
+      // Not positive definite (cannot happen for M - h df/dv - h^2 df/dx with the projected
+      // stiffness): fall back to the inverse of the absolute diagonal.
+      inverse_[i].setZero();
+      for (int c = 0; c < 3; ++c) {
+        const double a = std::fabs(block(c, c));
+        inverse_[i](c, c) = a > 0.0 ? 1.0 / a : 0.0;
+      }
+    }
+  }
+}
+
+void BlockJacobiPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
+  z.resize(r.size());
+  for (size_t i = 0; i < inverse_.size(); ++i) {
+    z.segment<3>(3 * i).noalias() = inverse_[i] * r.segment<3>(3 * i);
+  }
+}
+
+// Hestenes-Stiefel conjugate gradients with a left preconditioner (Saad, "Iterative
+// Methods for Sparse Linear Systems", 2nd ed., Algorithm 9.1).
+CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Eigen::VectorXd& b,
+                   double tolerance, int max_iterations, Eigen::VectorXd& x, CgWorkspace& work,
+                   const Eigen::VectorXd* weights) {
+  CgResult result;
+  auto norm = [weights](const Eigen::VectorXd& y) {
+    return weights ? std::sqrt(y.cwiseAbs2().dot(*weights)) : y.norm();
+  };
+  const double b_norm = norm(b);
+  if (x.size() != b.size()) x.setZero(b.size());
+  if (b_norm == 0.0) {
+    x.setZero();
+    result.converged = true;
+    return result;
+  }
+  Eigen::VectorXd& r = work.r;
+  Eigen::VectorXd& z = work.z;
+  Eigen::VectorXd& p = work.p;
+  Eigen::VectorXd& Ap = work.Ap;
+  A.multiply(x, Ap);
+  r = b - Ap;
+  double r_norm = norm(r);
+  const double target = tolerance * b_norm;
+  if (r_norm <= target) {
+    result.relative_residual = r_norm / b_norm;
+    result.converged = true;
+    return result;
+  }
+  P.apply(r, z);
+  p = z;
+  double rz = r.dot(z);
+  while (result.iterations < max_iterations) {
+    A.multiply(p, Ap);
+    const double pAp = p.dot(Ap);
+    if (!(pAp > 0.0)) {
+      result.breakdown = true;
+      break;
+    }
+    const double alpha = rz / pAp;
+    x.noalias() += alpha * p;
+    r.noalias() -= alpha * Ap;
+    result.iterations += 1;
+    r_norm = norm(r);
+    if (r_norm <= target) {
+      result.converged = true;
+      break;
+    }
+    P.apply(r, z);
+    const double rz_next = r.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+  }
+  result.relative_residual = r_norm / b_norm;
+  return result;
+}
+
+}  // namespace tissu

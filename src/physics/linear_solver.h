@@ -1,0 +1,108 @@
+// Sparse linear algebra of the implicit integrators (docs/implicit.md): a matrix of 3x3
+// vertex blocks in compressed-row form whose pattern is built once and refilled every
+// Newton iteration, the block-Jacobi (3x3 per vertex) preconditioner and a preconditioned
+// conjugate-gradient loop.
+//
+// Vectors are flat (3V): entry 3 i + c is coordinate c of vertex i. Vertices without a
+// diagonal block (pinned vertices, removed from the solve) have empty rows and columns;
+// the solver keeps their entries at zero.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "core/types.h"
+
+namespace tissu {
+
+// Matrix of V x V blocks of 3x3 in compressed rows. Two kinds of blocks: full 3x3 blocks
+// (stored column-major, 9 doubles) and diagonal-only blocks (3 doubles: the entries
+// (0,0), (1,1), (2,2)), the latter for vertex pairs that only couple each coordinate with
+// itself (the bending Jacobian's second-ring neighbours), so that a matrix-vector product
+// reads less memory. All values live in one array: the full blocks first, then the
+// diagonal-only ones. (Storing only the upper block triangle of the symmetric system
+// halves the memory too, but its scattered updates made the product 30% slower.)
+class BlockSparseMatrix {
+ public:
+  // Pattern from the (row vertex, column vertex) pairs of the full and of the
+  // diagonal-only blocks; duplicates are merged, a pair in both lists is full. Every
+  // diagonal (i, i) pair should be full. Values are zero afterwards.
+  void set_pattern(int num_vertices, std::vector<std::pair<int, int>> full,
+                   std::vector<std::pair<int, int>> diagonal_only = {});
+
+  int num_vertices() const { return num_vertices_; }
+  int num_blocks() const { return static_cast<int>(col_.size()); }
+  int num_diagonal_blocks() const { return static_cast<int>(dcol_.size()); }
+
+  // Index of entry (r, c) (0..2) of block (i, j) in values(), -1 when it is not stored
+  // (the pair is absent, or diagonal-only and r != c).
+  int find_entry(int i, int j, int r, int c) const;
+  // Index of full block (i, j) (its values at 9 * index), -1 when absent.
+  int find(int i, int j) const;
+  // Index of the full diagonal block of vertex i, -1 when absent.
+  int diagonal(int i) const { return diag_[i]; }
+
+  void set_zero();
+  double* block_values(int b) { return values_.data() + 9 * static_cast<size_t>(b); }
+  const double* block_values(int b) const { return values_.data() + 9 * static_cast<size_t>(b); }
+  std::vector<double>& values() { return values_; }
+  const std::vector<double>& values() const { return values_; }
+
+  // y = A x (3V vectors).
+  void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+
+  // Dense copy, for tests on small matrices.
+  Eigen::MatrixXd to_dense() const;
+
+ private:
+  int num_vertices_ = 0;
+  std::vector<int> row_start_;   // (V+1) first full block of each row
+  std::vector<int> col_;         // (full blocks) column vertex, sorted within a row
+  std::vector<int> drow_start_;  // (V+1) first diagonal-only block of each row
+  std::vector<int> dcol_;        // (diagonal-only blocks) column vertex, sorted in a row
+  std::vector<int> diag_;        // (V) diagonal block index or -1
+  std::vector<double> values_;   // 9 per full block, then 3 per diagonal-only block
+};
+
+// z = P r for a symmetric positive definite approximation P of A^-1.
+class Preconditioner {
+ public:
+  virtual ~Preconditioner() = default;
+  virtual void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const = 0;
+};
+
+// Block Jacobi: P = inverse of the 3x3 diagonal blocks of A. Vertices whose diagonal block
+// is absent get z = 0; a block that is not positive definite (cannot happen for
+// M - h df/dv - h^2 df/dx with the projected stiffness) falls back to scalar Jacobi.
+class BlockJacobiPreconditioner : public Preconditioner {
+ public:
+  void compute(const BlockSparseMatrix& A);
+  void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;
+
+ private:
+  std::vector<Mat3> inverse_;  // (V)
+};
+
+struct CgResult {
+  int iterations = 0;
+  double relative_residual = 0.0;  // |b - A x| / |b| at exit (recursive residual)
+  bool converged = false;
+  bool breakdown = false;  // p^T A p <= 0: the matrix is not positive definite
+};
+
+// Scratch vectors of the conjugate-gradient loop (kept to avoid allocation per solve).
+struct CgWorkspace {
+  Eigen::VectorXd r, z, p, Ap;
+};
+
+// Preconditioned conjugate gradients for symmetric positive definite A: solves A x = b to
+// |b - A x|_W <= tolerance |b|_W, starting from the x given (e.g. zero or a warm start),
+// where |y|_W^2 = sum_k w_k y_k^2 with the weights w (3V) when given, else the 2-norm.
+// Stops after max_iterations.
+CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Eigen::VectorXd& b,
+                   double tolerance, int max_iterations, Eigen::VectorXd& x, CgWorkspace& work,
+                   const Eigen::VectorXd* weights = nullptr);
+
+}  // namespace tissu
