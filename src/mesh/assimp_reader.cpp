@@ -37,7 +37,7 @@ void check_ply(const std::string& path) {
   const bool ply_name = path.size() >= 4 && lower(path.substr(path.size() - 4)) == ".ply";
   if (!ply_name && lower(text.substr(0, 3)) != "ply") return;
   auto fail = [&](const std::string& problem) { throw InputError(path + ": " + problem); };
-  const size_t end = text.find("\nend_header");
+  const size_t end = std::min(text.find("\nend_header\n"), text.find("\nend_header\r\n"));
   if (end == std::string::npos) fail("PLY header: no end_header line");
   const size_t nul = text.find('\0');
   if (nul < end) fail("byte " + std::to_string(nul) + ": NUL byte in the PLY header");
@@ -70,7 +70,12 @@ void check_ply(const std::string& path) {
         (number > 1 && w.size() == 3 && w[0] == "property" && kTypes.count(w[1])) ||
         (number > 1 && w.size() == 5 && w[0] == "property" && w[1] == "list" &&
          kTypes.count(w[2]) && kTypes.count(w[3]));
-    if (!ok) fail("PLY header line " + std::to_string(number) + ": not a PLY header statement");
+    const bool printable = std::all_of(line.begin(), line.end(), [](char c) {
+      return c == ' ' || c == '\t' || (c > 0x20 && c < 0x7f);
+    });
+    if (!ok || !printable) {
+      fail("PLY header line " + std::to_string(number) + ": not a PLY header statement");
+    }
   }
 }
 
