@@ -20,7 +20,7 @@ const char* kUsage =
     "reference, free fall, and the cloth hung at 3 points. Takes a few minutes.\n"
     "  --scenes DIR   the paper scenes (default scenes/paper)\n"
     "  --out DIR      where to write (default docs)\n"
-    "  --repeats N    timed runs per case, median reported (default 3)\n"
+    "  --repeats N    timed runs per case; fastest and median reported (default 5)\n"
     "  --quick        fewer iterations and cells: checks the command, not the results\n"
     "  --quiet        no progress lines\n"
     "Exit codes: 0 ok, 1 output error, 2 bad input.\n";
