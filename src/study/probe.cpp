@@ -76,7 +76,7 @@ double ProbeResult::cpu_per_simulated_second() const {
 
 std::vector<Integrator> all_integrators() {
   return {Integrator::ExplicitEuler, Integrator::SymplecticEuler, Integrator::BenameurDjedi,
-          Integrator::BackwardEuler, Integrator::Bdf2};
+          Integrator::BackwardEuler,  Integrator::Bdf2,            Integrator::ImplicitMidpoint};
 }
 
 Integrator parse_integrator_name(const std::string& name) {

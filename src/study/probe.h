@@ -74,6 +74,7 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec);
 
 // Integrator by scene name ("explicit_euler", ...); InputError listing the names otherwise.
 Integrator parse_integrator_name(const std::string& name);
+// Every integrator the physics module has, in the order of the Integrator enum.
 std::vector<Integrator> all_integrators();
 
 }  // namespace tissu
