@@ -27,7 +27,6 @@ struct ImplicitSolver {
 
   BlockSparseMatrix A;  // M - beta df/dv - beta^2 df/dx over the free vertices
   BlockJacobiPreconditioner preconditioner;
-  int pattern_version = 0;
 
   CgWorkspace cg;
   Eigen::VectorXd rhs, dv, shift;
@@ -111,7 +110,6 @@ void build_pattern(const Model& model, ImplicitSolver& s) {
     }
   }
   s.A.set_pattern(n, std::move(full), std::move(diagonal_only));
-  s.pattern_version += 1;
   s.pattern_pinned = model.pinned;
   s.has_pattern = true;
   s.key_x.clear();
@@ -202,10 +200,7 @@ void add_dfdx_product(const ImplicitSolver& s, double scale, const Eigen::Vector
 // by block-Jacobi PCG, and a backtracking line search on |g|_{M^-1} accepts the step.
 void newton_solve(const Model& model, const State& state, Workspace& ws, ImplicitSolver& s,
                   const StepEquation& eq) {
-  // Processor time (std::clock), which other processes on the machine do not inflate.
-  struct Clock {
-    static std::clock_t now() { return std::clock(); }
-  };
+  // Stage times are processor time (std::clock), which other processes do not inflate.
   auto seconds_since = [](std::clock_t t0) {
     return static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
   };
@@ -225,7 +220,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   }
 
   // Residual at the initial guess.
-  auto t0 = Clock::now();
+  std::clock_t t0 = std::clock();
   positions(model, s, eq, state.x, s.v, s.x);
   compute_forces(model, s.x, s.v, eq.t_force, ws.f);
   double r = residual_norm(model, s, eq, s.v, ws.f);
@@ -248,7 +243,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
 
   for (int k = 0; k < opt.max_newton_iterations && !report.converged && free_dofs > 0; ++k) {
     // Linearization point and forces there.
-    t0 = Clock::now();
+    t0 = std::clock();
     const Vec3List* x_lin = &s.x;
     const Vec3List* f_lin = &ws.f;
     if (k == 0) {
@@ -283,10 +278,10 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     } else {
       s.dv.setZero(3 * n);
     }
-    t0 = Clock::now();
+    t0 = std::clock();
     s.preconditioner.compute(s.A);
     report.seconds_preconditioner += seconds_since(t0);
-    t0 = Clock::now();
+    t0 = std::clock();
     const CgResult cg =
         solve_pcg(s.A, s.preconditioner, s.rhs, opt.cg_tolerance, max_cg, s.dv, s.cg, &s.weights);
     report.seconds_cg += seconds_since(t0);
@@ -297,7 +292,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
 
     // Backtracking line search on |g|: accept the first step length with sufficient
     // decrease; otherwise the best decrease found; otherwise no step.
-    t0 = Clock::now();
+    t0 = std::clock();
     double alpha = 1.0, best_alpha = 0.0, best_r = r, accepted = 0.0;
     for (int trial = 0; trial <= kMaxHalvings; ++trial, alpha *= 0.5) {
       s.v_try = s.v;
