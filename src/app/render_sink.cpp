@@ -2,6 +2,9 @@
 
 #include <pthread.h>
 #include <signal.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -18,6 +21,11 @@ namespace {
 // Frames that may wait for the render thread; more would only hold memory, since a
 // waiting frame is drawn no sooner.
 constexpr std::size_t kRenderQueueCapacity = 2;
+
+// Nice value of the render thread and of the threads it starts (llvmpipe's rasterizer
+// threads, the encoder): the simulation thread, which produces every frame, comes first
+// when they compete for a core; they use what it leaves (the other core, or its waits).
+constexpr int kRenderThreadNice = 10;
 
 // Cloth resting on an obstacle has its vertices on the surface and its flat triangles
 // inside it (by the sagitta L^2 / (8 R) of an edge of length L): drawn at full size the
@@ -147,6 +155,10 @@ void RenderSink::render_thread_main() {
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  // Per thread on Linux, and inherited by the threads created below. Failing is harmless.
+  const int current = getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
+  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)),
+              std::max(current, kRenderThreadNice));
   Output out;
   try {
     set_thread_name("tissu-render");
