@@ -5,8 +5,10 @@
 // where x_uu, x_vv, x_uv are the second derivatives of the 3D position with respect to the
 // rest coordinates (u = weft, v = warp), estimated on each triangle by the quadratic patch
 // through its 3 corners and the 3 apices of its hinges (the union of the triangle's three
-// 4-vertex hinge stencils; nearby vertices replace apices missing at boundaries). The
-// estimate is exact whenever x is a quadratic function of (u, v), on any triangulation.
+// 4-vertex hinge stencils; nearby vertices replace apices missing at boundaries or nearly
+// on a conic with the corners, and needle or cap triangles use a least-squares quadratic
+// over their nearby vertices). The estimate is exact whenever x is a quadratic function
+// of (u, v), on any triangulation.
 //
 // For an isometric deformation of the flat rest sheet (cloth barely stretches) the second
 // derivatives are normal to the surface and their norms are the curvatures, so E is the
@@ -35,8 +37,8 @@
 namespace tissu {
 
 // Second-derivative stencil of one triangle: d^2x/du^2 at the triangle is approximated by
-// sum_j w_uu[j] x[vertex[j]] (exact when x is a quadratic function of (u, v)); the same for
-// vv and uv.
+// sum_j w_uu[j] x[vertex[j]] (exact when x is a quadratic function of (u, v), zero when it
+// is affine); the same for vv and uv.
 struct BendingStencil {
   static constexpr int kMaxNodes = 15;
   int count = 0;                // nodes used: 3 triangle corners + 3 extra vertices (up to 12)
