@@ -155,11 +155,14 @@ void Canvas::marker(Marker shape, double x, double y, double size, Rgb color) {
         return (std::fabs(px - x) + std::fabs(py - y) - r) / std::sqrt(2.0);
       });
       break;
-    case Marker::TriangleUp: {
-      // Intersection of three half-planes; edge normals of an equilateral triangle.
+    case Marker::TriangleUp:
+    case Marker::TriangleDown: {
+      // Intersection of three half-planes; edge normals of an equilateral triangle
+      // (screen y grows downwards: mirror y for the downward one).
       const double k = std::sqrt(3.0) / 2.0;
+      const double flip = shape == Marker::TriangleUp ? 1.0 : -1.0;
       fill_sdf(x - r, y - r, x + r, y + r, color, [&](double px, double py) {
-        const double dx = px - x, dy = py - (y + 0.15 * r);
+        const double dx = px - x, dy = flip * (py - y) - 0.15 * r;
         const double bottom = dy - 0.5 * r;
         const double left = -k * dx - 0.5 * dy - 0.5 * r;
         const double right = k * dx - 0.5 * dy - 0.5 * r;
@@ -205,9 +208,9 @@ Rgb series_color(int i) {
 }
 
 Marker series_marker(int i) {
-  static const Marker markers[] = {Marker::Circle, Marker::Square, Marker::TriangleUp,
-                                   Marker::Diamond, Marker::Cross};
-  return markers[i % 5];
+  static const Marker markers[] = {Marker::Circle,  Marker::Square, Marker::TriangleUp,
+                                   Marker::Diamond, Marker::Cross,  Marker::TriangleDown};
+  return markers[i % 6];
 }
 
 PlotFrame plot_frame(const LogLogPlot& plot) {

@@ -15,7 +15,7 @@ struct Rgb {
   std::uint8_t r = 0, g = 0, b = 0;
 };
 
-enum class Marker { Circle, Square, TriangleUp, Diamond, Cross };
+enum class Marker { Circle, Square, TriangleUp, Diamond, Cross, TriangleDown };
 enum class Align { Start, Center, End };
 
 // Maps `value` on a log10 scale: lo -> pixel_lo, hi -> pixel_hi (either may be larger).

@@ -305,7 +305,7 @@ std::string study_markdown(const StudyResult& study, const std::string& plot_fil
   md << "| RMS error budget (mm) | cheapest run | dt (s) | " << (study.cpu_clock ? "CPU" : "wall")
      << " s / sim s | RMS error (mm) |\n";
   md << "|---:|---|---:|---:|---:|\n";
-  for (double budget_mm : {0.1, 1.0, 10.0, 100.0}) {
+  for (double budget_mm : {0.01, 0.1, 1.0, 10.0, 100.0}) {
     const StudyRun* best = nullptr;
     for (const StudyRun& r : study.runs) {
       if (!r.probe.stable() || r.rms_worst * 1e3 > budget_mm) continue;
