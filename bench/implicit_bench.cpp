@@ -3,7 +3,8 @@
 // time split into Jacobian assembly, preconditioner, CG and residual evaluations.
 //   ./build/bench/tissu_implicit_bench [triangles] [material] [seconds] [cg_tolerance]
 // defaults: 5000 linen 0.5 1e-8; runs dt = 1/60 s and 1/600 s, backward Euler with one Newton
-// iteration and with Newton to convergence, and BDF-2. Times are processor time (std::clock).
+// iteration and with Newton to convergence, and BDF-2, each with the sparse Cholesky and the
+// block-Jacobi preconditioner. Times are processor time (std::clock).
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -73,13 +74,14 @@ int main(int argc, char** argv) {
   std::printf(
       "%s sheet, %.3g s of simulated time per run, newton_tolerance %.0e, cg_tolerance %.0e\n",
       material.c_str(), seconds, ImplicitOptions().newton_tolerance, cg_tolerance);
-  std::printf("%-16s %-8s %-6s %6s %6s %8s %9s %8s %8s %8s %8s %7s %6s\n", "integrator", "dt",
-              "newton", "tris", "steps", "newton/s", "cg/step", "ms/step", "jac", "precond", "cg",
+  std::printf("%-9s %-16s %-8s %-6s %6s %6s %8s %9s %6s %8s %8s %8s %8s %7s %6s\n", "solver", "integrator", "dt",
+              "newton", "tris", "steps", "newton/s", "cg/step", "fact/s", "ms/step", "jac", "precond", "cg",
               "resid", "strain");
   struct Run {
     Integrator integrator;
     int newton;
   };
+  for (LinearSolver solver : {LinearSolver::Cholesky, LinearSolver::BlockJacobiPcg})
   for (double dt : {1.0 / 60.0, 1.0 / 600.0}) {
     for (Run run : {Run{Integrator::BackwardEuler, 1}, Run{Integrator::BackwardEuler, 50},
                     Run{Integrator::Bdf2, 50}}) {
@@ -88,9 +90,10 @@ int main(int argc, char** argv) {
       s.model.dt = dt;
       s.model.implicit.max_newton_iterations = run.newton;
       s.model.implicit.cg_tolerance = cg_tolerance;
+      s.model.implicit.linear_solver = solver;
       Workspace ws;
       const int steps = std::max(1, static_cast<int>(seconds / dt + 0.5));
-      long newton = 0, cg = 0;
+      long newton = 0, cg = 0, factorizations = 0;
       double jac = 0, pre = 0, cgt = 0, res = 0;
       bool diverged = false;
       const std::clock_t t0 = std::clock();
@@ -99,15 +102,17 @@ int main(int argc, char** argv) {
         const ImplicitReport& r = *last_implicit_report(ws);
         newton += r.newton_iterations;
         cg += r.cg_iterations;
+        factorizations += r.factorizations;
         jac += r.seconds_jacobian;
         pre += r.seconds_preconditioner;
         cgt += r.seconds_cg;
         res += r.seconds_residual;
       }
       const double total = static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
-      std::printf("%-16s 1/%-6.0f %-6d %6d %6d %8.2f %9.1f %8.2f %8.2f %8.2f %8.2f %7.2f %6.4f%s\n",
+      std::printf("%-9s %-16s 1/%-6.0f %-6d %6d %6d %8.2f %9.1f %6.2f %8.2f %8.2f %8.2f %8.2f %7.2f %6.4f%s\n",
+                  solver == LinearSolver::Cholesky ? "cholesky" : "jacobi",
                   integrator_name(run.integrator), 1.0 / dt, run.newton, s.model.num_triangles(),
-                  steps, double(newton) / steps, double(cg) / steps, 1e3 * total / steps,
+                  steps, double(newton) / steps, double(cg) / steps, double(factorizations) / steps, 1e3 * total / steps,
                   1e3 * jac / steps, 1e3 * pre / steps, 1e3 * cgt / steps, 1e3 * res / steps,
                   max_principal_strain(s.model, s.state.x), diverged ? " DIVERGED" : "");
       std::fflush(stdout);

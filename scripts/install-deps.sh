@@ -7,6 +7,8 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config git
   libeigen3-dev          # sparse matrices, conjugate gradients
+  libsuitesparse-dev     # CHOLMOD sparse Cholesky (implicit integrators)
+  libopenblas0-serial    # fast single-threaded BLAS under CHOLMOD (same result at any load)
   libglm-dev             # renderer maths
   libassimp-dev          # mesh files (OBJ, PLY, STL, glTF, ...)
   nlohmann-json3-dev     # scene files

@@ -28,6 +28,7 @@ namespace tissu {
 struct ImplicitReport {
   int newton_iterations = 0;      // linear solves performed
   int cg_iterations = 0;          // total over the Newton iterations
+  int factorizations = 0;         // Cholesky factorizations (linear_solver cholesky)
   bool converged = false;         // final residual <= newton_tolerance * initial residual
   double initial_residual = 0.0;  // at the initial guess v = v_n
   double final_residual = 0.0;

@@ -34,6 +34,8 @@ int find_in(const std::vector<int>& row_start, const std::vector<int>& col, int 
 
 void BlockSparseMatrix::set_pattern(int num_vertices, std::vector<std::pair<int, int>> full,
                                     std::vector<std::pair<int, int>> diagonal_only) {
+  static uint64_t next_pattern_id = 0;
+  pattern_id_ = ++next_pattern_id;
   num_vertices_ = num_vertices;
   sort_unique(full);
   sort_unique(diagonal_only);
@@ -131,6 +133,82 @@ void BlockJacobiPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd&
   z.resize(r.size());
   for (size_t i = 0; i < inverse_.size(); ++i) {
     z.segment<3>(3 * i).noalias() = inverse_[i] * r.segment<3>(3 * i);
+  }
+}
+
+void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
+  const int n = A.num_vertices();
+  const Eigen::Index dofs = 3 * static_cast<Eigen::Index>(n);
+  // Column c of the lower triangle is row c of the upper one (A is symmetric): for each
+  // coordinate row R, the full-block entries A(R, C) with C >= R.
+  std::vector<std::pair<Eigen::Index, int64_t>> entries;  // (C, value index) of one row
+  std::vector<Eigen::Index> outer(dofs + 1, 0);
+  std::vector<Eigen::Index> inner;
+  source_.clear();
+  dropped_.clear();
+  solved_.assign(dofs, 0);
+  for (int i = 0; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      const Eigen::Index R = 3 * i + a;
+      entries.clear();
+      if (A.diagonal(i) >= 0) {
+        solved_[R] = 1;
+        for (int b = A.row_begin(i); b < A.row_end(i); ++b) {
+          const int j = A.block_column(b);
+          for (int c = 0; c < 3; ++c) {
+            const Eigen::Index C = 3 * static_cast<Eigen::Index>(j) + c;
+            // Column-major 3x3 block: entry (a, c) at 3 c + a.
+            if (C >= R) entries.emplace_back(C, 9 * static_cast<int64_t>(b) + 3 * c + a);
+          }
+        }
+        std::sort(entries.begin(), entries.end());
+      } else {
+        entries.emplace_back(R, -1);
+      }
+      for (const auto& [C, index] : entries) {
+        if (C == R) {
+          // Diagonal-only blocks of this row are dropped; their magnitudes go here.
+          for (int d = A.diagonal_only_begin(i); d < A.diagonal_only_end(i); ++d) {
+            if (A.diagonal_only_column(d) == i) continue;
+            dropped_.emplace_back(static_cast<int64_t>(source_.size()),
+                                  static_cast<int64_t>(A.diagonal_only_value(d)) + a);
+          }
+        }
+        inner.push_back(C);
+        source_.push_back(index);
+      }
+      outer[R + 1] = static_cast<Eigen::Index>(inner.size());
+    }
+  }
+  // Pattern with placeholder values, then the ordering and symbolic analysis once.
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(inner.size());
+  for (Eigen::Index c = 0; c < dofs; ++c) {
+    for (Eigen::Index k = outer[c]; k < outer[c + 1]; ++k) triplets.emplace_back(inner[k], c, 1.0);
+  }
+  lower_.resize(dofs, dofs);
+  lower_.setFromTriplets(triplets.begin(), triplets.end());
+  lower_.makeCompressed();
+  llt_.analyzePattern(lower_);
+  pattern_id_ = A.pattern_id();
+}
+
+bool CholeskyPreconditioner::compute(const BlockSparseMatrix& A) {
+  if (pattern_id_ != A.pattern_id()) analyze(A);
+  // setFromTriplets sorted each column by row, as the entries were: values map in order.
+  double* values = lower_.valuePtr();
+  const std::vector<double>& a = A.values();
+  for (size_t k = 0; k < source_.size(); ++k) values[k] = source_[k] >= 0 ? a[source_[k]] : 1.0;
+  for (const auto& [diagonal, index] : dropped_) values[diagonal] += std::fabs(a[index]);
+  llt_.factorize(lower_);
+  valid_ = llt_.info() == Eigen::Success;
+  return valid_;
+}
+
+void CholeskyPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
+  z = llt_.solve(r);
+  for (Eigen::Index k = 0; k < z.size(); ++k) {
+    if (!solved_[k]) z[k] = 0.0;
   }
 }
 

@@ -9,6 +9,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCore>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -33,6 +35,18 @@ class BlockSparseMatrix {
                    std::vector<std::pair<int, int>> diagonal_only = {});
 
   int num_vertices() const { return num_vertices_; }
+  // Changes with every set_pattern (unique across matrices): lets caches of the pattern
+  // (CholeskyPreconditioner's ordering) know when to rebuild.
+  uint64_t pattern_id() const { return pattern_id_; }
+  // Full blocks of vertex row i: indices row_begin(i) .. row_end(i) - 1, columns block_column.
+  int row_begin(int i) const { return row_start_[i]; }
+  int row_end(int i) const { return row_start_[i + 1]; }
+  int block_column(int b) const { return col_[b]; }
+  // Diagonal-only blocks of row i, their columns, and the index of their first value.
+  int diagonal_only_begin(int i) const { return drow_start_[i]; }
+  int diagonal_only_end(int i) const { return drow_start_[i + 1]; }
+  int diagonal_only_column(int d) const { return dcol_[d]; }
+  size_t diagonal_only_value(int d) const { return 9 * col_.size() + 3 * static_cast<size_t>(d); }
   int num_blocks() const { return static_cast<int>(col_.size()); }
   int num_diagonal_blocks() const { return static_cast<int>(dcol_.size()); }
 
@@ -58,6 +72,7 @@ class BlockSparseMatrix {
 
  private:
   int num_vertices_ = 0;
+  uint64_t pattern_id_ = 0;
   std::vector<int> row_start_;   // (V+1) first full block of each row
   std::vector<int> col_;         // (full blocks) column vertex, sorted within a row
   std::vector<int> drow_start_;  // (V+1) first diagonal-only block of each row
@@ -83,6 +98,37 @@ class BlockJacobiPreconditioner : public Preconditioner {
 
  private:
   std::vector<Mat3> inverse_;  // (V)
+};
+
+// Sparse Cholesky factor (CHOLMOD, supernodal) of A with its diagonal-only blocks (the
+// bending Jacobian's second-ring couplings) dropped and their magnitudes added to the
+// diagonal: the factored matrix is A + sum over dropped pairs of [|a| -a; -a |a|] >= A, so
+// it stays positive definite, and it fills in about a third as much (5000 triangles: 47
+// instead of 458 Mflop per factorization). Without bending it is A itself and PCG converges
+// in one iteration; with bending in a few. Ordering and symbolic analysis are done once per
+// pattern, the numeric factorization on every compute(). Vertices without a diagonal
+// block get z = 0.
+class CholeskyPreconditioner : public Preconditioner {
+ public:
+  // False when A is not positive definite (the factor is then unusable).
+  bool compute(const BlockSparseMatrix& A);
+  void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;
+  bool valid() const { return valid_; }
+  // Pattern of the matrix last factorized (BlockSparseMatrix::pattern_id).
+  uint64_t pattern_id() const { return pattern_id_; }
+
+ private:
+  void analyze(const BlockSparseMatrix& A);
+
+  uint64_t pattern_id_ = 0;
+  Eigen::SparseMatrix<double> lower_;  // lower triangle of A (column-major)
+  std::vector<int64_t> source_;        // per stored value of lower_: index in A.values(),
+                                       // -1 for the unit diagonal of a row without block
+  std::vector<std::pair<int64_t, int64_t>> dropped_;  // (diagonal value of lower_, dropped
+                                                      // entry's index in A.values())
+  std::vector<uint8_t> solved_;        // (3V) 1 = coordinate in the system
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt_;
+  bool valid_ = false;
 };
 
 struct CgResult {

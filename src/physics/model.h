@@ -56,7 +56,13 @@ struct PositionCorrection {
 };
 
 // Newton and conjugate-gradient settings of the implicit integrators.
+enum class LinearSolver {
+  Cholesky,        // sparse Cholesky factor of each Newton matrix, as PCG's preconditioner
+  BlockJacobiPcg,  // PCG with the 3x3 block-Jacobi preconditioner (no factorization)
+};
+
 struct ImplicitOptions {
+  LinearSolver linear_solver = LinearSolver::Cholesky;
   int max_newton_iterations = 1;   // 1 = one Newton iteration (Baraff & Witkin)
   double newton_tolerance = 1e-6;  // relative residual of the nonlinear step
   double cg_tolerance = 1e-8;      // relative residual of each linear solve

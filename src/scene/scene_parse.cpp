@@ -261,6 +261,10 @@ Scene parse_scene(const Json& doc, const std::string& file) {
         static_cast<int>(im.integer("newton_iterations", 1, Range::between(1, 100)));
     scene.implicit.newton_tolerance = im.number("newton_tolerance", 1e-6, Range::positive());
     scene.implicit.cg_tolerance = im.number("cg_tolerance", 1e-8, Range::positive());
+    const std::string solver =
+        im.choice("linear_solver", {"cholesky", "block_jacobi_pcg"}, "cholesky");
+    scene.implicit.linear_solver =
+        solver == "cholesky" ? LinearSolver::Cholesky : LinearSolver::BlockJacobiPcg;
     im.finish();
   }
   scene.max_speed = root.number("max_speed", 100.0, Range::positive());
