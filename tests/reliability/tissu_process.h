@@ -71,12 +71,18 @@ class TissuProcess : public ::testing::Test {
     return out;
   }
 
-  // Runs tissu with `args` in the work directory (so the default out/ would land there).
-  Outcome run(const std::vector<std::string>& args, const Limits& limits = {}) {
-    const std::set<std::string> before = listing();
+  // Starts tissu with `args` in the work directory (so the default out/ would land there)
+  // and returns at once; `finish` waits for it and collects the outcome.
+  struct Child {
+    pid_t pid = -1;
+    std::set<std::string> before;  // the work directory's listing before the start
+  };
+  Child start(const std::vector<std::string>& args, const Limits& limits = {}) {
+    Child child;
+    child.before = listing();
     const std::string err_file = (root_ / "stderr.txt").string();
-    const pid_t pid = fork();
-    if (pid == 0) {
+    child.pid = fork();
+    if (child.pid == 0) {
       if (chdir(work_.c_str()) != 0) _exit(126);
       const int fd = open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       if (fd < 0 || dup2(fd, STDERR_FILENO) < 0) _exit(126);
@@ -96,19 +102,28 @@ class TissuProcess : public ::testing::Test {
       execv(TISSU_BINARY, argv.data());
       _exit(127);
     }
+    return child;
+  }
+
+  Outcome finish(const Child& child) {
     Outcome out;
     int status = 0;
-    waitpid(pid, &status, 0);
+    waitpid(child.pid, &status, 0);
     if (WIFEXITED(status)) out.exit_code = WEXITSTATUS(status);
     if (WIFSIGNALED(status)) out.signal = WTERMSIG(status);
-    std::ifstream in(err_file);
+    std::ifstream in(root_ / "stderr.txt");
     std::stringstream ss;
     ss << in.rdbuf();
     out.err = ss.str();
     for (const std::string& p : listing()) {
-      if (!before.count(p)) out.created.push_back(p);
+      if (!child.before.count(p)) out.created.push_back(p);
     }
     return out;
+  }
+
+  // Runs tissu with `args` in the work directory and waits for it.
+  Outcome run(const std::vector<std::string>& args, const Limits& limits = {}) {
+    return finish(start(args, limits));
   }
 
   // A scene that runs quickly: a small rectangle of cotton, a few steps.
