@@ -110,4 +110,31 @@ void prepare_output_dir(const std::string& dir) {
   }
 }
 
+void OutputDirs::prepare(const std::string& dir) {
+  namespace fs = std::filesystem;
+  // The missing ancestors, found before creating anything: symlink_status, so a dangling
+  // symlink counts as existing and is never taken for a directory of ours.
+  std::vector<std::string> missing;
+  std::error_code ec;
+  for (fs::path p = fs::path(dir).lexically_normal(); !p.empty() && p != p.root_path();
+       p = p.parent_path()) {
+    if (p.filename().empty()) continue;  // "a/b/" -> "a/b"
+    if (fs::exists(fs::symlink_status(p, ec))) break;
+    missing.push_back(p.string());
+  }
+  created_.insert(created_.end(), missing.rbegin(), missing.rend());
+  prepare_output_dir(dir);
+}
+
+void OutputDirs::remove_created_if_empty() noexcept {
+  namespace fs = std::filesystem;
+  for (auto it = created_.rbegin(); it != created_.rend(); ++it) {
+    std::error_code ec;
+    const fs::file_status status = fs::symlink_status(*it, ec);
+    if (ec || !fs::is_directory(status) || !fs::is_empty(*it, ec) || ec) continue;
+    fs::remove(*it, ec);  // rmdir: fails, harmlessly, if something appeared meanwhile
+  }
+  created_.clear();
+}
+
 }  // namespace tissu

@@ -29,4 +29,17 @@ bool parse_scene_command(const std::vector<std::string>& args, bool render,
 // Creates `dir` (and parents) and checks it can be written; InputError otherwise.
 void prepare_output_dir(const std::string& dir);
 
+// Output directories of one run, created with prepare_output_dir. It remembers the
+// directories it created itself (not those that existed), so a run that fails before it
+// has written anything (one output location cannot be created) leaves no empty directory.
+class OutputDirs {
+ public:
+  void prepare(const std::string& dir);
+  // Removes the directories this object created that are still empty, deepest first.
+  void remove_created_if_empty() noexcept;
+
+ private:
+  std::vector<std::string> created_;  // in creation order: parents first
+};
+
 }  // namespace tissu

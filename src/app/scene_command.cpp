@@ -74,17 +74,25 @@ int run_scene(const std::vector<std::string>& args, bool render) {
     }
   }
 
-  // Output locations are checked before anything is written.
-  prepare_output_dir(options.out_dir);
-  prepare_output_dir(parent_dir(options.report_path));
-  if (options.obj_every > 0) {
-    run.obj_every = options.obj_every;
-    run.obj_dir = (fs::path(options.out_dir) / "obj").string();
-    prepare_output_dir(run.obj_dir);
+  // Output locations are checked before anything is written; if one of them cannot be
+  // created (or the renderer cannot start), the directories made so far are removed again.
+  OutputDirs dirs;
+  try {
+    dirs.prepare(options.out_dir);
+    dirs.prepare(parent_dir(options.report_path));
+    if (options.obj_every > 0) {
+      run.obj_every = options.obj_every;
+      run.obj_dir = (fs::path(options.out_dir) / "obj").string();
+      dirs.prepare(run.obj_dir);
+    }
+    if (!outputs.png_dir.empty()) dirs.prepare(outputs.png_dir);
+    if (!outputs.stills_dir.empty()) dirs.prepare(outputs.stills_dir);
+    if (render) sink = std::make_unique<RenderSink>(settings, outputs);
+  } catch (...) {
+    sink.reset();
+    dirs.remove_created_if_empty();
+    throw;
   }
-  if (!outputs.png_dir.empty()) prepare_output_dir(outputs.png_dir);
-  if (!outputs.stills_dir.empty()) prepare_output_dir(outputs.stills_dir);
-  if (render) sink = std::make_unique<RenderSink>(settings, outputs);
 
   install_interrupt_handlers();
   RunResult result;
