@@ -9,6 +9,7 @@
 #include "app/report.h"
 #include "app/run_loop.h"
 #include "app/signals.h"
+#include "core/output_target.h"
 
 namespace tissu {
 
@@ -76,6 +77,10 @@ int run_scene(const std::vector<std::string>& args, bool render) {
 
   // Output locations are checked before anything is written; if one of them cannot be
   // created (or the renderer cannot start), the directories made so far are removed again.
+  // Named output files that are not regular files (devices, pipes, directories, symbolic
+  // links) are refused before the run, and before anything is created.
+  check_output_target(options.report_path);
+  if (!outputs.mp4_path.empty()) check_output_target(outputs.mp4_path);
   OutputDirs dirs;
   try {
     dirs.prepare(options.out_dir);

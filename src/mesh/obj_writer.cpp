@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/output_target.h"
 
 namespace tissu {
 namespace {
@@ -43,6 +44,12 @@ class TempFile {
     std::FILE* file = file_;
     file_ = nullptr;
     if (std::fclose(file) != 0) fail("close failed");
+    try {
+      check_output_target(path_);  // never rename over a device, pipe, directory or link
+    } catch (...) {
+      std::remove(temp_.c_str());
+      throw;
+    }
     if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail("cannot rename " + temp_ + " to it");
     committed_ = true;
   }

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/output_target.h"
 
 namespace tissu {
 
@@ -24,6 +25,12 @@ std::string errno_text(int error_number) {
 }
 
 void commit_partial_file(const std::string& partial_path, const std::string& final_path) {
+  try {
+    check_output_target(final_path);  // never rename over a device, pipe, directory or link
+  } catch (...) {
+    discard_partial_file(partial_path);
+    throw;
+  }
   if (std::rename(partial_path.c_str(), final_path.c_str()) != 0) {
     const int error_number = errno;
     discard_partial_file(partial_path);

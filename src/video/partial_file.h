@@ -11,7 +11,9 @@ namespace tissu {
 std::string partial_path_for(const std::string& final_path);
 
 // Renames the finished temporary file onto the final path; throws OutputError naming
-// `final_path` and the system's reason. The temporary file is removed on failure.
+// `final_path` and the system's reason. The temporary file is removed on failure. A final
+// path that is not a regular file (device, named pipe, socket, directory, symbolic link) is
+// refused, never replaced (core/output_target.h).
 void commit_partial_file(const std::string& partial_path, const std::string& final_path);
 
 // Removes the temporary file if it exists; never throws.
