@@ -1,6 +1,7 @@
 // Implicit integrators: backward Euler (the paper's eq. 11), BDF-2 and implicit midpoint,
 // all solved in velocity form with Newton's method, the analytic force Jacobian
-// (compute_force_jacobian), preconditioned conjugate gradients (block Jacobi) and a
+// (compute_force_jacobian), preconditioned conjugate gradients (sparse Cholesky or block
+// Jacobi preconditioner, Model::implicit.linear_solver) and a
 // backtracking line search on the nonlinear residual. Pinned vertices are constraints
 // removed from the solve. Equations and choices: docs/implicit.md.
 //
