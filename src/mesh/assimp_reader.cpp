@@ -81,7 +81,7 @@ void check_ply(const std::string& path) {
 
 }  // namespace
 
-MeshFileData read_with_assimp(const std::string& path) {
+MeshFileData read_with_assimp_in_process(const std::string& path) {
   auto fail = [&](const std::string& problem) { throw InputError(path + ": " + problem); };
   check_ply(path);
   Assimp::Importer importer;

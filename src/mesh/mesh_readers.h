@@ -23,7 +23,17 @@ MeshFileData read_obj(const std::string& path);
 // Any other format assimp reads, triangulated and with node transforms applied. Corners at
 // exactly the same position are welded into one vertex (formats such as STL store a vertex
 // per corner); vertices are numbered in order of first appearance.
+// assimp runs in a child process (isolated_read.cpp): when it does not finish within the
+// time limit (mesh_read_timeout) or dies of a signal, the child is killed and an InputError
+// names the file and the problem. The result is the same as read_with_assimp_in_process.
 MeshFileData read_with_assimp(const std::string& path);
+
+// The same read in this process, without a time limit (what the child runs).
+MeshFileData read_with_assimp_in_process(const std::string& path);
+
+// The child's time limit for reading a file of `bytes` bytes, s: 10 s + 1 s per started MiB,
+// or the environment variable TISSU_MESH_READ_TIMEOUT (s, a positive number) when set.
+double mesh_read_timeout(unsigned long long bytes);
 
 // True when two texture coordinates are the same up to rounding (`extent`: largest |uv|).
 bool same_texture_coordinates(const Vec2& a, const Vec2& b, double extent);
