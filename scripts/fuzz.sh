@@ -30,6 +30,10 @@ if [ ! -f "$build/CMakeCache.txt" ]; then
 fi
 cmake --build "$build" -j "${FUZZ_JOBS:-2}" --target $(printf 'fuzz_%s ' "${targets[@]}")
 
+# Non-OBJ meshes are read in a child process with a time limit (src/mesh/isolated_read.cpp):
+# keep it below libFuzzer's -timeout so a hanging reader is the loader's error, as in a run.
+export TISSU_MESH_READ_TIMEOUT=${TISSU_MESH_READ_TIMEOUT:-2}
+
 # Leaks inside third-party libraries (assimp) are suppressed, never the project's own.
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 

@@ -227,6 +227,28 @@ TEST_F(BadInput, MeshFormatAssimpCannotRead) {
                        ": cannot read this format or file");
 }
 
+// assimp runs in a child process with a time limit: a reader that hangs is killed, one that
+// crashes is reported, both as one line, exit 2, nothing written. The child-only hook
+// TISSU_MESH_READ_TEST makes the reader hang or abort on a valid file.
+TEST_F(BadInput, MeshReaderThatHangsOrCrashesIsStoppedWithOneLine) {
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+      "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const std::string where =
+      path("scene.json") + ": cloth.mesh.file: " + path("cloth.ply") + ": the mesh reader ";
+  setenv("TISSU_MESH_READ_TIMEOUT", "1", 1);
+  setenv("TISSU_MESH_READ_TEST", "hang", 1);
+  EXPECT_BAD_INPUT(run_mesh("cloth.ply", ply), where + "did not finish within 1 s");
+  setenv("TISSU_MESH_READ_TEST", "abort", 1);
+  EXPECT_BAD_INPUT(run_mesh("cloth.ply", ply), where + "crashed (signal 6");
+  unsetenv("TISSU_MESH_READ_TEST");
+  unsetenv("TISSU_MESH_READ_TIMEOUT");
+  // The same file without the hook loads and runs.
+  const Outcome ok = run_mesh("cloth.ply", ply);
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
 TEST_F(BadInput, MeshWithoutTriangles) {
   EXPECT_BAD_INPUT(run_mesh("cloth.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"),
                    path("scene.json") + ": cloth.mesh.file: " + path("cloth.obj") +
