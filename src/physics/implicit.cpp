@@ -51,6 +51,11 @@ struct ImplicitSolver {
 
 namespace {
 
+// Stage times are processor time (std::clock), which other processes do not inflate.
+double processor_seconds_since(std::clock_t t0) {
+  return static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
+}
+
 constexpr int kPinned = -1;   // the triplet touches a pinned vertex: not in the solve
 constexpr int kMissing = -2;  // its block is not in the pattern
 // Cholesky preconditioner: a factorization costs about as much as 30 CG iterations (5000
@@ -203,14 +208,11 @@ void add_dfdx_product(const ImplicitSolver& s, double scale, const Eigen::Vector
 // Block Jacobi on request, or when a factorization fails (A not positive definite).
 CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
                       ImplicitReport& report) {
-  auto seconds_since = [](std::clock_t t0) {
-    return static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
-  };
   auto pcg = [&](const Preconditioner& p, int max_iterations) {
     const std::clock_t t0 = std::clock();
     const CgResult r =
         solve_pcg(s.A, p, s.rhs, opt.cg_tolerance, max_iterations, s.dv, s.cg, &s.weights);
-    report.seconds_cg += seconds_since(t0);
+    report.seconds_cg += processor_seconds_since(t0);
     return r;
   };
   CgResult stale;
@@ -221,7 +223,7 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
     }
     std::clock_t t0 = std::clock();
     const bool factorized = s.cholesky.compute(s.A);
-    report.seconds_preconditioner += seconds_since(t0);
+    report.seconds_preconditioner += processor_seconds_since(t0);
     if (factorized) {
       report.factorizations += 1;
       CgResult r = pcg(s.cholesky, max_cg);
@@ -231,7 +233,7 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
   }
   std::clock_t t0 = std::clock();
   s.block_jacobi.compute(s.A);
-  report.seconds_preconditioner += seconds_since(t0);
+  report.seconds_preconditioner += processor_seconds_since(t0);
   CgResult r = pcg(s.block_jacobi, max_cg);
   r.iterations += stale.iterations;
   return r;
@@ -243,13 +245,9 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
 //   (M - beta df/dv - beta^2 df/dx) dv = M (v_base - v) + beta f_lin
 //                                        + beta df/dx (x(v) - x_lin)
 // (the last term is zero after the first iteration, where the right-hand side is -g(v))
-// by block-Jacobi PCG, and a backtracking line search on |g|_{M^-1} accepts the step.
+// by PCG (linear_solve), and a backtracking line search on |g|_{M^-1} accepts the step.
 void newton_solve(const Model& model, const State& state, Workspace& ws, ImplicitSolver& s,
                   const StepEquation& eq) {
-  // Stage times are processor time (std::clock), which other processes do not inflate.
-  auto seconds_since = [](std::clock_t t0) {
-    return static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
-  };
   const int n = model.num_vertices();
   const ImplicitOptions& opt = model.implicit;
   ImplicitReport& report = s.report;
@@ -270,7 +268,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   positions(model, s, eq, state.x, s.v, s.x);
   compute_forces(model, s.x, s.v, eq.t_force, ws.f);
   double r = residual_norm(model, s, eq, s.v, ws.f);
-  report.seconds_residual += seconds_since(t0);
+  report.seconds_residual += processor_seconds_since(t0);
   const double r0 = r;
   report.initial_residual = r0;
   report.residuals.push_back(r);
@@ -315,7 +313,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
       }
       add_dfdx_product(s, eq.beta, s.shift, s.rhs);
     }
-    report.seconds_jacobian += seconds_since(t0);
+    report.seconds_jacobian += processor_seconds_since(t0);
 
     // Linear solve by PCG (Cholesky or block-Jacobi preconditioner). The first iteration starts from the previous
     // step's velocity change (consecutive steps change velocities alike), later ones from 0.
@@ -362,7 +360,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
       compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try);
       r = residual_norm(model, s, eq, s.v_try, s.f_try);
     }
-    report.seconds_residual += seconds_since(t0);
+    report.seconds_residual += processor_seconds_since(t0);
     report.step_lengths.push_back(accepted);
     report.residuals.push_back(r);
     if (accepted == 0.0) {

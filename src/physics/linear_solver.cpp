@@ -142,8 +142,9 @@ void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
   // Column c of the lower triangle is row c of the upper one (A is symmetric): for each
   // coordinate row R, the full-block entries A(R, C) with C >= R.
   std::vector<std::pair<Eigen::Index, int64_t>> entries;  // (C, value index) of one row
-  std::vector<Eigen::Index> outer(dofs + 1, 0);
-  std::vector<Eigen::Index> inner;
+  using StorageIndex = Eigen::SparseMatrix<double>::StorageIndex;
+  std::vector<StorageIndex> outer(dofs + 1, 0);  // compressed columns of lower_
+  std::vector<StorageIndex> inner;
   source_.clear();
   dropped_.clear();
   solved_.assign(dofs, 0);
@@ -174,28 +175,25 @@ void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
                                   static_cast<int64_t>(A.diagonal_only_value(d)) + a);
           }
         }
-        inner.push_back(C);
+        inner.push_back(static_cast<StorageIndex>(C));
         source_.push_back(index);
       }
-      outer[R + 1] = static_cast<Eigen::Index>(inner.size());
+      outer[R + 1] = static_cast<StorageIndex>(inner.size());
     }
   }
-  // Pattern with placeholder values, then the ordering and symbolic analysis once.
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(inner.size());
-  for (Eigen::Index c = 0; c < dofs; ++c) {
-    for (Eigen::Index k = outer[c]; k < outer[c + 1]; ++k) triplets.emplace_back(inner[k], c, 1.0);
-  }
+  // The compressed columns as built (each sorted by row, so value k of lower_ is
+  // source_[k]), then the ordering and symbolic analysis once.
   lower_.resize(dofs, dofs);
-  lower_.setFromTriplets(triplets.begin(), triplets.end());
-  lower_.makeCompressed();
+  lower_.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer.begin(), outer.end(), lower_.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), lower_.innerIndexPtr());
+  std::fill_n(lower_.valuePtr(), inner.size(), 1.0);
   llt_.analyzePattern(lower_);
   pattern_id_ = A.pattern_id();
 }
 
 bool CholeskyPreconditioner::compute(const BlockSparseMatrix& A) {
   if (pattern_id_ != A.pattern_id()) analyze(A);
-  // setFromTriplets sorted each column by row, as the entries were: values map in order.
   double* values = lower_.valuePtr();
   const std::vector<double>& a = A.values();
   for (size_t k = 0; k < source_.size(); ++k) values[k] = source_[k] >= 0 ? a[source_[k]] : 1.0;
