@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "figure/obstacle_shape.h"
 #include "render/cpu_clock.h"
 
 namespace tissu {
@@ -42,21 +43,6 @@ double mean_edge_length(const Model& model, const Vec3List& x) {
   return model.triangles.empty() ? 0.0 : sum / (3.0 * model.triangles.size());
 }
 
-ObstacleShape shape_of(const Obstacle& ob, double t, double edge_length) {
-  ObstacleShape s;
-  switch (ob.kind) {
-    case ObstacleKind::Sphere: s.kind = ObstacleShape::Kind::Sphere; break;
-    case ObstacleKind::Cylinder: s.kind = ObstacleShape::Kind::Cylinder; break;
-    case ObstacleKind::Plane: s.kind = ObstacleShape::Kind::Plane; break;
-  }
-  s.center = ob.center_at(t);
-  s.axis = ob.axis;
-  const double inset = draw_inset(ob.radius, edge_length);
-  s.radius = ob.radius - inset;
-  s.half_length = ob.half_length - inset;
-  if (ob.kind == ObstacleKind::Plane) s.center -= 0.002 * ob.axis;  // m
-  return s;
-}
 
 std::string numbered_png(const std::string& dir, long long index) {
   char name[32];
@@ -273,7 +259,7 @@ void RenderSink::frame(const Model& model, const State& state, const FrameStats&
   job.topology = topology_;
   job.positions = state.x;
   for (const Obstacle& ob : model.obstacles) {
-    job.obstacles.push_back(shape_of(ob, state.t, edge_length_));
+    job.obstacles.push_back(drawn_obstacle(ob, state.t, draw_inset(ob.radius, edge_length_)));
   }
   if (settings_.info) {
     job.overlay_lines =

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <sstream>
 
+#include "figure/obstacle_shape.h"
+
 namespace tissu {
 
 namespace {
@@ -33,23 +35,9 @@ void remove_key(Json& doc, const std::string& key) {
 }
 
 // Cloth resting on an obstacle lies on its surface, where both tessellations would cut
-// through each other: obstacles are drawn slightly inside (as `tissu render` does).
+// through each other: obstacles are drawn slightly inside (`tissu render` insets by the
+// cloth's edge sagitta instead, see RenderSink).
 constexpr double kDrawInset = 0.01;  // fraction of the radius
-
-ObstacleShape obstacle_shape(const Obstacle& ob, double t) {
-  ObstacleShape s;
-  switch (ob.kind) {
-    case ObstacleKind::Sphere: s.kind = ObstacleShape::Kind::Sphere; break;
-    case ObstacleKind::Cylinder: s.kind = ObstacleShape::Kind::Cylinder; break;
-    case ObstacleKind::Plane: s.kind = ObstacleShape::Kind::Plane; break;
-  }
-  s.center = ob.center_at(t);
-  s.axis = ob.axis;
-  s.radius = ob.radius * (1.0 - kDrawInset);
-  s.half_length = ob.half_length - ob.radius * kDrawInset;
-  if (ob.kind == ObstacleKind::Plane) s.center -= 0.002 * ob.axis;  // 2 mm below
-  return s;
-}
 
 }  // namespace
 
@@ -145,7 +133,7 @@ FrameContent panel_frame_content(const Model& model, const State& state) {
   content.triangles = model.triangles;
   content.rest_uv = model.rest_uv;
   content.positions = state.x;
-  for (const Obstacle& ob : model.obstacles) content.obstacles.push_back(obstacle_shape(ob, state.t));
+  for (const Obstacle& ob : model.obstacles) content.obstacles.push_back(drawn_obstacle(ob, state.t, ob.radius * kDrawInset));
   return content;
 }
 
