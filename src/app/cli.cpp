@@ -49,44 +49,61 @@ long long parse_count(const std::string& option, const std::string& text, long l
 
 }  // namespace
 
-bool parse_scene_command(const std::vector<std::string>& args, bool render,
-                         SceneCommandOptions& out) {
-  const std::string command = render ? "tissu render" : "tissu run";
+bool walk_arguments(const std::vector<std::string>& args, const std::string& command,
+                    const char* help,
+                    const std::function<bool(const std::string&, const OptionValue&)>& take) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
+    if (a == "--help" || a == "-h") {
+      std::cout << help;
+      return false;
+    }
+    const OptionValue value = [&]() -> const std::string& {
       if (i + 1 >= args.size()) throw InputError(command + ": " + a + " needs a value");
       return args[++i];
     };
-    if (a == "--help" || a == "-h") {
-      std::cout << (render ? kRenderHelp : kRunHelp);
-      return false;
-    } else if (a == "--out") {
-      out.out_dir = value();
-    } else if (a == "--set") {
-      out.overrides.push_back(value());
-    } else if (a == "--obj-every") {
-      out.obj_every = static_cast<int>(parse_count("--obj-every", value(), 1));
-    } else if (a == "--report") {
-      out.report_path = value();
-    } else if (a == "--quiet") {
-      out.quiet = true;
-    } else if (render && a == "--png") {
-      out.png = true;
-    } else if (render && a == "--no-mp4") {
-      out.mp4 = false;
-    } else if (render && a == "--stills") {
-      out.stills = static_cast<int>(parse_count("--stills", value(), 1));
-    } else if (render && a == "--frames") {
-      out.max_frames = parse_count("--frames", value(), 1);
-    } else if (!a.empty() && a[0] == '-') {
+    if (take(a, value)) continue;
+    if (!a.empty() && a[0] == '-') {
       throw InputError(command + ": unknown option " + a + " (see " + command + " --help)");
-    } else if (out.scene_file.empty()) {
-      out.scene_file = a;
-    } else {
-      throw InputError(command + ": unexpected argument \"" + a + "\"");
     }
+    throw InputError(command + ": unexpected argument \"" + a + "\"");
   }
+  return true;
+}
+
+bool parse_scene_command(const std::vector<std::string>& args, bool render,
+                         SceneCommandOptions& out) {
+  const std::string command = render ? "tissu render" : "tissu run";
+  const bool go = walk_arguments(
+      args, command, render ? kRenderHelp : kRunHelp,
+      [&](const std::string& a, const OptionValue& value) {
+        if (a == "--out") {
+          out.out_dir = value();
+        } else if (a == "--set") {
+          out.overrides.push_back(value());
+        } else if (a == "--obj-every") {
+          out.obj_every = static_cast<int>(parse_count("--obj-every", value(), 1));
+        } else if (a == "--report") {
+          out.report_path = value();
+        } else if (a == "--quiet") {
+          out.quiet = true;
+        } else if (render && a == "--png") {
+          out.png = true;
+        } else if (render && a == "--no-mp4") {
+          out.mp4 = false;
+        } else if (render && a == "--stills") {
+          out.stills = static_cast<int>(parse_count("--stills", value(), 1));
+        } else if (render && a == "--frames") {
+          out.max_frames = parse_count("--frames", value(), 1);
+        } else if (a.empty() || a[0] != '-') {
+          if (!out.scene_file.empty()) return false;  // a second scene
+          out.scene_file = a;
+        } else {
+          return false;
+        }
+        return true;
+      });
+  if (!go) return false;
   if (out.scene_file.empty()) throw InputError(command + ": missing SCENE.json (see --help)");
   if (out.out_dir.empty()) {
     out.out_dir = (std::filesystem::path("out") /

@@ -1,10 +1,23 @@
 // Command-line parsing shared by the subcommands.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace tissu {
+
+// The next argument, as the value of the option being read; throws InputError
+// "<command>: <option> needs a value" when there is none.
+using OptionValue = std::function<const std::string&()>;
+
+// Walks a subcommand's arguments (after its name). "--help" or "-h" prints `help` and
+// returns false. Every other argument goes to take(argument, value), which returns false
+// for one it does not know: an InputError "<command>: unknown option ARG (see <command>
+// --help)" when ARG starts with '-', else "<command>: unexpected argument \"ARG\"".
+bool walk_arguments(const std::vector<std::string>& args, const std::string& command,
+                    const char* help,
+                    const std::function<bool(const std::string&, const OptionValue&)>& take);
 
 // Options common to the commands that run a scene.
 struct SceneCommandOptions {

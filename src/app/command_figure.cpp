@@ -39,29 +39,24 @@ struct FigureOptions {
 };
 
 bool parse_options(const std::vector<std::string>& args, FigureOptions& o) {
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw InputError("tissu figure: " + a + " needs a value");
-      return args[++i];
-    };
-    if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      return false;
-    } else if (a == "--out") {
-      o.out_file = value();
-    } else if (a == "--out-dir") {
-      o.out_dir = value();
-    } else if (a == "--mp4-dir") {
-      o.mp4_dir = value();
-    } else if (a == "--quiet") {
-      o.quiet = true;
-    } else if (a.rfind("-", 0) == 0) {
-      throw InputError("tissu figure: unknown option " + a + " (see tissu figure --help)");
-    } else {
-      o.figures.push_back(a);
-    }
-  }
+  const bool go =
+      walk_arguments(args, "tissu figure", kUsage, [&](const std::string& a, const OptionValue& value) {
+        if (a == "--out") {
+          o.out_file = value();
+        } else if (a == "--out-dir") {
+          o.out_dir = value();
+        } else if (a == "--mp4-dir") {
+          o.mp4_dir = value();
+        } else if (a == "--quiet") {
+          o.quiet = true;
+        } else if (a.rfind("-", 0) == 0) {
+          return false;
+        } else {
+          o.figures.push_back(a);
+        }
+        return true;
+      });
+  if (!go) return false;
   if (o.figures.empty()) throw InputError("tissu figure: no figure file given (see tissu figure --help)");
   if (!o.out_file.empty() && o.figures.size() > 1) {
     throw InputError("tissu figure: --out names one image; use --out-dir for several figures");

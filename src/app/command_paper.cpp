@@ -31,21 +31,20 @@ int command_paper(const std::vector<std::string>& args) {
   PaperOptions o;
   bool quiet = false;
   o.command_line = "tissu paper";
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= args.size()) throw InputError("tissu paper: " + a + " needs a value");
-      return args[++i];
+  const bool go = walk_arguments(args, "tissu paper", kUsage, [&](const std::string& a,
+                                                                  const OptionValue& value) {
+    // The command line as given goes into the results file; --quiet changes nothing there.
+    auto recorded = [&]() -> const std::string& {
+      const std::string& v = value();
+      o.command_line += " " + a + " " + v;
+      return v;
     };
-    if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      return kExitOk;
-    } else if (a == "--scenes") {
-      o.scenes_dir = value();
+    if (a == "--scenes") {
+      o.scenes_dir = recorded();
     } else if (a == "--out") {
-      o.out_dir = value();
+      o.out_dir = recorded();
     } else if (a == "--repeats") {
-      const std::string v = value();
+      const std::string v = recorded();
       try {
         size_t used = 0;
         o.repeats = std::stoi(v, &used);
@@ -55,14 +54,15 @@ int command_paper(const std::vector<std::string>& args) {
       }
     } else if (a == "--quick") {
       o.quick = true;
+      o.command_line += " " + a;
     } else if (a == "--quiet") {
       quiet = true;
     } else {
       throw InputError("tissu paper: unknown argument " + a + " (see tissu paper --help)");
     }
-    if (a != "--quiet") o.command_line += " " + a;
-    if (a == "--scenes" || a == "--out" || a == "--repeats") o.command_line += " " + args[i];
-  }
+    return true;
+  });
+  if (!go) return kExitOk;
   prepare_output_dir(o.out_dir);
   if (!quiet) o.log = [](const std::string& line) { std::cerr << "tissu: paper: " << line << "\n"; };
   const auto [md, csv] = run_paper_experiments(o);

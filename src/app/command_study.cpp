@@ -104,19 +104,14 @@ struct Parsed {
   bool quiet = false;
 };
 
-template <class Extra>
+// The options of study and stability: --out, --set, --quiet, SCENE.json (one, or several
+// when many_scenes) and the command's own, which `extra(option, value)` takes.
 bool parse(const std::vector<std::string>& args, const std::string& command, const char* help,
-           bool many_scenes, Parsed& p, Extra extra) {
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw InputError(command + ": " + a + " needs a value");
-      return args[++i];
-    };
-    if (a == "--help" || a == "-h") {
-      std::cout << help;
-      return false;
-    } else if (a == "--out") {
+           bool many_scenes, Parsed& p,
+           const std::function<bool(const std::string&, const OptionValue&)>& extra) {
+  const bool go = walk_arguments(args, command, help, [&](const std::string& a,
+                                                           const OptionValue& value) {
+    if (a == "--out") {
       p.out_dir = value();
     } else if (a == "--set") {
       p.overrides.push_back(value());
@@ -124,13 +119,15 @@ bool parse(const std::vector<std::string>& args, const std::string& command, con
       p.quiet = true;
     } else if (extra(a, value)) {
     } else if (!a.empty() && a[0] == '-') {
-      throw InputError(command + ": unknown option " + a + " (see " + command + " --help)");
+      return false;
     } else if (p.scenes.empty() || many_scenes) {
       p.scenes.push_back(a);
     } else {
-      throw InputError(command + ": unexpected argument \"" + a + "\"");
+      return false;
     }
-  }
+    return true;
+  });
+  if (!go) return false;
   if (p.scenes.empty()) throw InputError(command + ": missing SCENE.json (see --help)");
   return true;
 }
@@ -141,7 +138,7 @@ int command_study(const std::vector<std::string>& args) {
   Parsed p;
   StudyOptions options;
   const bool go = parse(args, "tissu study", kStudyHelp, false, p,
-                        [&](const std::string& a, auto value) {
+                        [&](const std::string& a, const OptionValue& value) {
                           if (a == "--integrators") {
                             options.integrators = parse_integrator_list(value());
                           } else if (a == "--dts") {
@@ -196,7 +193,7 @@ int command_stability(const std::vector<std::string>& args) {
   Parsed p;
   StabilityOptions options;
   const bool go = parse(args, "tissu stability", kStabilityHelp, true, p,
-                        [&](const std::string& a, auto value) {
+                        [&](const std::string& a, const OptionValue& value) {
                           if (a == "--integrators") {
                             options.integrators = parse_integrator_list(value());
                           } else if (a == "--dt-min") {
