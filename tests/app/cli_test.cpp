@@ -12,26 +12,18 @@
 #include <thread>
 #include <unistd.h>
 
+#include "common/tissu_shell.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-struct Result {
-  int exit_code;
-  std::string err;
-};
+using Result = tissu::test::ShellResult;
 
-class Cli : public ::testing::Test {
+class Cli : public tissu::test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("tissu_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  Cli() : TempDirTest("tissu_cli") {}
 
   std::string write_scene(const std::string& name, const Json& scene) {
     const std::string path = (dir_ / name).string();
@@ -41,13 +33,7 @@ class Cli : public ::testing::Test {
 
   // Runs tissu with `args`; stderr captured.
   Result run(const std::string& args) {
-    const std::string err_file = (dir_ / "stderr.txt").string();
-    const std::string command = std::string(TISSU_BINARY) + " " + args + " 2>" + err_file;
-    const int status = std::system(command.c_str());
-    std::ifstream in(err_file);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+    return tissu::test::run_tissu_shell(args, dir_ / "stderr.txt");
   }
 
   static Json small_scene() {
@@ -66,8 +52,6 @@ class Cli : public ::testing::Test {
     std::ifstream in(p);
     return Json::parse(in);
   }
-
-  fs::path dir_;
 };
 
 TEST_F(Cli, HelpListsEveryOption) {

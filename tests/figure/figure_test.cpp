@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "common/tissu_shell.h"
 #include "figure/compose.h"
 #include "figure/figure.h"
 #include "physics/materials.h"
@@ -35,17 +36,14 @@ Json tiny_scene() {
   })");
 }
 
-class FigureTest : public ::testing::Test {
+class FigureTest : public tissu::test::TempDirTest {
  protected:
+  FigureTest() : TempDirTest("tissu_figure") {}
+
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("tissu_figure_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    TempDirTest::SetUp();
     std::ofstream(dir_ / "tiny.json") << tiny_scene().dump(2);
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   std::string figure_file() const { return (dir_ / "figure.json").string(); }
 
@@ -70,8 +68,6 @@ class FigureTest : public ::testing::Test {
     }
     return "(no error)";
   }
-
-  fs::path dir_;
 };
 
 TEST_F(FigureTest, ParsesPanelsAndResolvesScenesFromTheFigureFile) {
@@ -271,17 +267,10 @@ TEST_F(FigureTest, LastGoodStateIsFiniteAndFramesReachIt) {
 
 // The tissu program: bad input exits 2 naming the figure path and writes nothing.
 int run_tissu(const std::string& args, const fs::path& err_file) {
-  const std::string command = std::string(TISSU_BINARY) + " " + args + " 2>" + err_file.string();
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return tissu::test::run_tissu_shell(args, err_file).exit_code;
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using tissu::test::read_text;
 
 TEST_F(FigureTest, CommandWritesTheImageOrRejectsBadInput) {
   Json doc = two_panels();

@@ -10,15 +10,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "common/tissu_shell.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-struct Result {
-  int exit_code;
-  std::string err;
-};
+using Result = tissu::test::ShellResult;
+using tissu::test::read_text;
 
 // Width and height from a PNG's IHDR chunk (bytes 16-23, big-endian); 0 x 0 if not a PNG.
 std::pair<int, int> png_size(const fs::path& p) {
@@ -37,30 +37,12 @@ std::pair<int, int> png_size(const fs::path& p) {
   return {be32(16), be32(20)};
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-class StudyCli : public ::testing::Test {
+class StudyCli : public tissu::test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("tissu_study_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  StudyCli() : TempDirTest("tissu_study_cli") {}
 
   Result run(const std::string& args) {
-    const std::string err_file = (dir_ / "stderr.txt").string();
-    const std::string command =
-        std::string(TISSU_BINARY) + " " + args + " > /dev/null 2>" + err_file;
-    const int status = std::system(command.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(err_file)};
+    return tissu::test::run_tissu_shell(args, dir_ / "stderr.txt", /*discard_stdout=*/true);
   }
 
   static std::string hard(const std::string& name) {
@@ -82,7 +64,6 @@ class StudyCli : public ::testing::Test {
     return path;
   }
 
-  fs::path dir_;
 };
 
 // The stiffest preset at 1/240 s with explicit Euler: far beyond its limit.
