@@ -1,7 +1,7 @@
 // Speed of `tissu render` per stage: simulate, draw, read back and encode, in ms per video
 // frame (wall and CPU time), and the frames produced per second end to end.
 //
-//   tissu_render_bench [SCENE.json] [--frames N] [--msaa 4,1] [--set KEY=VALUE]...
+//   tissu_render_bench [SCENE.json] [--frames N] [--msaa 4,1] [--set KEY=VALUE]... [--threads N]
 //                      [--replay] [--passes] [--out DIR]
 //
 // Default: the demo scene (scenes/demo.json), all its frames, MSAA 4 then 1. For each MSAA
@@ -32,6 +32,7 @@
 #include "app/render_sink.h"
 #include "app/run_loop.h"
 #include "physics/diagnostics.h"
+#include "physics/parallel.h"
 #include "render/cpu_clock.h"
 #include "scene/scene.h"
 
@@ -48,6 +49,10 @@ std::string load_average() {
   return a + " " + b + " " + c;
 }
 
+// CPU time of the simulation's helper threads, and with the calling thread's.
+double helpers_cpu_seconds() { return named_threads_cpu_seconds(kSimulationHelperThreadName); }
+double sim_cpu_seconds() { return thread_cpu_seconds() + helpers_cpu_seconds(); }
+
 struct Options {
   std::string scene = std::string(TISSU_SOURCE_DIR) + "/scenes/demo.json";
   long long frames = -1;  // all
@@ -56,6 +61,7 @@ struct Options {
   bool replay = false;
   bool passes = false;
   bool serial = false;  // draw on the simulation thread (no render thread)
+  int threads = available_processors();  // simulation threads, as tissu render
   std::string out_dir;
   std::string states_file;  // --replay: load the states from here, or save them here
   std::string png_dir;      // also write every frame as a PNG here
@@ -85,6 +91,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--set") o.overrides.push_back(value());
     else if (a == "--replay") o.replay = true;
     else if (a == "--serial") o.serial = true;
+    else if (a == "--threads") o.threads = std::max(1, std::atoi(value().c_str()));
     else if (a == "--passes") o.passes = o.replay = true;
     else if (a == "--out") o.out_dir = value();
     else if (a == "--states") o.states_file = value();
@@ -92,7 +99,8 @@ Options parse(int argc, char** argv) {
     else if (a.rfind("--", 0) == 0 || a == "-h") {
       std::fprintf(stderr,
                    "usage: tissu_render_bench [SCENE.json] [--frames N] [--msaa 4,1] "
-                   "[--set KEY=VALUE]... [--replay] [--passes] [--serial] [--states FILE] [--png DIR] "
+                   "[--set KEY=VALUE]... [--replay] [--passes] [--serial] [--threads N] [--states FILE] "
+                   "[--png DIR] "
                    "[--out DIR]\n");
       std::exit(a == "-h" || a == "--help" ? 0 : 2);
     } else {
@@ -147,8 +155,9 @@ bool load_states(const std::string& path, const Simulation& sim, long long frame
 struct Totals {
   long long frames = 0;
   long long steps = 0;
-  double sim_wall = 0, sim_cpu = 0;    // simulation thread
+  double sim_wall = 0, sim_cpu = 0;    // simulation thread and its helper threads
   double main_cpu = 0;                 // whole main thread over the loop and finish()
+  double helpers_cpu = 0;              // the simulation's helper threads
   double frame_call_wall = 0;          // RenderSink::frame() as seen by the simulation thread
   double finish_wall = 0;              // RenderSink::finish()
   double wall = 0, process_cpu = 0;    // loop + finish
@@ -160,15 +169,15 @@ void print_results(const char* what, int msaa, const RenderSettings& settings, c
   sink.add_times(st);
   const RenderCpuTimes c = sink.cpu_times();
   const double n = static_cast<double>(t.frames);
-  const double encoder_cpu =
-      std::max(0.0, t.process_cpu - t.main_cpu - c.thread_total - c.rasterizer);
+  const double encoder_cpu = std::max(
+      0.0, t.process_cpu - t.main_cpu - t.helpers_cpu - c.thread_total - c.rasterizer);
   auto ms = [&](double s) { return 1e3 * s / n; };
   std::printf("\n== %s, MSAA %d, %dx%d, %lld frames (%.0f simulation steps per frame)\n", what,
               msaa, settings.width, settings.height, t.frames,
               t.frames > 1 ? static_cast<double>(t.steps) / (n - 1) : 0.0);
   std::printf("  %-44s %12s %12s\n", "stage, per frame", "wall ms", "CPU ms");
   if (t.steps > 0) {
-    std::printf("  %-44s %12.1f %12.1f\n", "simulate (simulation thread)", ms(t.sim_wall),
+    std::printf("  %-44s %12.1f %12.1f\n", "simulate (simulation threads)", ms(t.sim_wall),
                 ms(t.sim_cpu));
   }
   const char* drawer = c.thread_total > 0 ? "render thread" : "simulation thread";
@@ -232,9 +241,9 @@ int main(int argc, char** argv) {
                              : fs::path(options.out_dir);
     fs::create_directories(out);
     const char* lp_threads = std::getenv("LP_NUM_THREADS");
-    std::printf("scene %s: %s, dt %g s, %lld steps per frame, %lld frames\n",
+    std::printf("scene %s: %s, dt %g s, %lld steps per frame, %lld frames, %d simulation threads\n",
                 options.scene.c_str(), integrator_name(scene.integrator), scene.dt, every,
-                frames);
+                frames, options.threads);
     std::printf("%ld cores online, LP_NUM_THREADS=%s, load average before: %s\n",
                 sysconf(_SC_NPROCESSORS_ONLN), lp_threads ? lp_threads : "(unset)",
                 load_average().c_str());
@@ -249,7 +258,8 @@ int main(int argc, char** argv) {
       stored.clear();
       Simulation sim = build_simulation(scene);
       Workspace ws;
-      const double w0 = wall_seconds(), c0 = thread_cpu_seconds();
+      ws.threads = options.threads;
+      const double w0 = wall_seconds(), c0 = sim_cpu_seconds();
       for (long long f = 0; f < frames; ++f) {
         for (long long s = 0; f > 0 && s < every; ++s) {
           if (step(sim.model, sim.state, ws)) {
@@ -261,7 +271,7 @@ int main(int argc, char** argv) {
         stored.push_back({sim.state, measure_frame(sim.model, sim.state)});
       }
       replay_sim.sim_wall = wall_seconds() - w0;
-      replay_sim.sim_cpu = thread_cpu_seconds() - c0;
+      replay_sim.sim_cpu = sim_cpu_seconds() - c0;
       std::printf("simulated %lld frames first: %.1f ms wall, %.1f ms CPU per frame\n", frames,
                   1e3 * replay_sim.sim_wall / frames, 1e3 * replay_sim.sim_cpu / frames);
       if (!options.states_file.empty()) save_states(options.states_file, stored);
@@ -283,8 +293,9 @@ int main(int argc, char** argv) {
 
       Totals t;
       Workspace ws;
+      ws.threads = options.threads;
       const double wall0 = wall_seconds(), process0 = process_cpu_seconds();
-      const double main0 = thread_cpu_seconds();
+      const double main0 = thread_cpu_seconds(), helpers0 = helpers_cpu_seconds();
       for (long long f = 0; f < frames; ++f) {
         const Model& model = sim.model;
         FrameStats stats;
@@ -293,7 +304,7 @@ int main(int argc, char** argv) {
           state = &stored[static_cast<size_t>(f)].state;
           stats = stored[static_cast<size_t>(f)].stats;
         } else {
-          const double w = wall_seconds(), c = thread_cpu_seconds();
+          const double w = wall_seconds(), c = sim_cpu_seconds();
           for (long long s = 0; f > 0 && s < every; ++s) {
             if (step(model, sim.state, ws)) {
               std::fprintf(stderr, "render_bench: the simulation diverged\n");
@@ -303,7 +314,7 @@ int main(int argc, char** argv) {
             ++t.steps;
           }
           t.sim_wall += wall_seconds() - w;
-          t.sim_cpu += thread_cpu_seconds() - c;
+          t.sim_cpu += sim_cpu_seconds() - c;
           stats = measure_frame(model, sim.state);
         }
         const double w = wall_seconds();
@@ -317,6 +328,7 @@ int main(int argc, char** argv) {
       t.wall = wall_seconds() - wall0;
       t.process_cpu = process_cpu_seconds() - process0;
       t.main_cpu = thread_cpu_seconds() - main0;
+      t.helpers_cpu = helpers_cpu_seconds() - helpers0;
       print_results(options.passes ? "renderer passes (replayed states, no video)"
                     : options.replay ? "render and encode (replayed states)"
                                      : "simulate, render and encode",

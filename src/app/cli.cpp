@@ -14,19 +14,22 @@ namespace {
 
 const char* kRunHelp =
     "usage: tissu run SCENE.json [--out DIR] [--set KEY=VALUE]... [--obj-every N]\n"
-    "                 [--report FILE] [--quiet]\n"
+    "                 [--threads N] [--report FILE] [--quiet]\n"
     "Simulates a scene and writes DIR/report.json (and OBJ snapshots on request).\n"
     "  --out DIR          output directory (default out/<scene name>)\n"
     "  --set KEY=VALUE    override a scene value by dotted path, e.g. --set dt=1e-4,\n"
     "                     --set cloth.material.density=0.2; VALUE is JSON if it parses\n"
     "  --obj-every N      write DIR/obj/frame_NNNNNN.obj every N steps (and final.obj)\n"
+    "  --threads N        threads for explicit steps (default: the processors available);\n"
+    "                     the results are the same bits for any N\n"
     "  --report FILE      report path (default DIR/report.json)\n"
     "  --quiet            no progress output\n"
     "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 130 interrupted.\n";
 
 const char* kRenderHelp =
     "usage: tissu render SCENE.json [--out DIR] [--set KEY=VALUE]... [--png] [--no-mp4]\n"
-    "                    [--frames N] [--stills N] [--obj-every N] [--report FILE] [--quiet]\n"
+    "                    [--frames N] [--stills N] [--obj-every N] [--threads N]\n"
+    "                    [--report FILE] [--quiet]\n"
     "Simulates a scene, renders every frame off screen and writes DIR/<name>.mp4\n"
     "(H.264, yuv420p, fps and slow motion from the scene's render block).\n"
     "  --png              also write DIR/png/frame_NNNNNN.png for every frame\n"
@@ -83,6 +86,13 @@ bool parse_scene_command(const std::vector<std::string>& args, bool render,
           out.overrides.push_back(value());
         } else if (a == "--obj-every") {
           out.obj_every = static_cast<int>(parse_count("--obj-every", value(), 1));
+        } else if (a == "--threads") {
+          const long long threads = parse_count("--threads", value(), 1);
+          if (threads > kMaxThreads) {
+            throw InputError("--threads: expected at most " + std::to_string(kMaxThreads) +
+                             ", got " + std::to_string(threads));
+          }
+          out.threads = static_cast<int>(threads);
         } else if (a == "--report") {
           out.report_path = value();
         } else if (a == "--quiet") {

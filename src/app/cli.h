@@ -19,6 +19,8 @@ bool walk_arguments(const std::vector<std::string>& args, const std::string& com
                     const char* help,
                     const std::function<bool(const std::string&, const OptionValue&)>& take);
 
+constexpr int kMaxThreads = 256;
+
 // Options common to the commands that run a scene.
 struct SceneCommandOptions {
   std::string scene_file;
@@ -26,6 +28,7 @@ struct SceneCommandOptions {
   std::vector<std::string> overrides;
   std::string report_path;  // default: <out_dir>/report.json
   int obj_every = 0;
+  int threads = 0;  // simulation threads; 0 = the processors available
   bool quiet = false;
   // render-only options
   bool png = false;

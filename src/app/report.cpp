@@ -32,6 +32,7 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
   report["triangles"] = model.num_triangles();
   report["integrator"] = integrator_name(model.integrator);
   report["dt"] = model.dt;
+  report["threads"] = result.threads;
   report["steps_requested"] = scene.steps;
   report["steps_done"] = result.steps_done;
   report["simulated_time"] = static_cast<double>(result.steps_done) * model.dt;

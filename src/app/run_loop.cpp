@@ -44,7 +44,9 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
   const Model& model = sim.model;
   State& state = sim.state;
   Workspace ws;
+  ws.threads = options.threads;
   RunResult result;
+  result.threads = options.threads;
   ProgressBar progress = ProgressBar::on_stderr(options.progress_label, scene.steps);
   Vec3List last_frame_x = state.x;  // final.obj falls back to it after a divergence
 

@@ -38,6 +38,7 @@ struct RunOptions {
   long long frame_every = 1;  // steps between frames
   int obj_every = 0;          // steps between OBJ snapshots; 0 = only final.obj (when obj_dir set)
   std::string obj_dir;        // "" = no OBJ output
+  int threads = 1;            // threads for each step (same results for any count)
   bool progress = true;       // progress line on stderr
   std::string progress_label = "simulate";
 };
@@ -48,6 +49,7 @@ struct RunResult {
   std::optional<Divergence> divergence;
   std::vector<FrameStats> frames;
   StageTimes times;
+  int threads = 1;            // threads each step could use
   int newton_iterations = 0;  // totals over the run (implicit integrators)
   long long cg_iterations = 0;
 };

@@ -10,6 +10,7 @@
 #include "app/run_loop.h"
 #include "app/signals.h"
 #include "core/output_target.h"
+#include "physics/parallel.h"
 
 namespace tissu {
 
@@ -58,6 +59,7 @@ int run_scene(const std::vector<std::string>& args, bool render) {
 
   RunOptions run;
   run.frame_every = steps_per_frame(scene.dt, frames_per_simulated_second(settings));
+  run.threads = options.threads > 0 ? options.threads : available_processors();
   run.progress = !options.quiet;
   run.progress_label = render ? "render" : "simulate";
 

@@ -678,11 +678,16 @@ void check_size(const BendingModel& model, size_t n, const char* what) {
 // the origin.
 RowMatrixX3 centered(const Vec3List& x) {
   const Eigen::Map<const RowMatrixX3> X(x[0].data(), static_cast<Eigen::Index>(x.size()), 3);
-  const Eigen::RowVector3d mean = X.colwise().mean();
-  return X.rowwise() - mean;
+  return X.rowwise() - bending_origin(x).transpose();
 }
 
 }  // namespace
+
+Vec3 bending_origin(const Vec3List& x) {
+  if (x.empty()) return Vec3::Zero();
+  const Eigen::Map<const RowMatrixX3> X(x[0].data(), static_cast<Eigen::Index>(x.size()), 3);
+  return X.colwise().mean().transpose();
+}
 
 double bending_energy(const BendingModel& model, const Vec3List& x) {
   check_size(model, x.size(), "x");
@@ -696,8 +701,20 @@ void add_bending_forces(const BendingModel& model, const Vec3List& x, Vec3List& 
   check_size(model, x.size(), "x");
   check_size(model, f.size(), "f");
   if (model.num_vertices == 0) return;
-  Eigen::Map<RowMatrixX3> F(f[0].data(), model.num_vertices, 3);
-  F.noalias() -= model.stiffness * centered(x);
+  add_bending_forces(model, x, bending_origin(x), 0, model.num_vertices, f);
+}
+
+void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
+                        int first, int end, Vec3List& f) {
+  const auto& Q = model.stiffness;
+  const int* starts = Q.outerIndexPtr();
+  const int* columns = Q.innerIndexPtr();
+  const double* values = Q.valuePtr();
+  for (int i = first; i < end; ++i) {
+    Vec3 qx = Vec3::Zero();
+    for (int k = starts[i]; k < starts[i + 1]; ++k) qx += values[k] * (x[columns[k]] - origin);
+    f[i] -= qx;
+  }
 }
 
 void add_bending_jacobian(const BendingModel& model, const Vec3List& x, BlockTriplets& dfdx) {

@@ -87,6 +87,15 @@ double bending_energy(const BendingModel& model, const Vec3List& x);
 // Adds the bending forces -dE/dx (N) to f (V).
 void add_bending_forces(const BendingModel& model, const Vec3List& x, Vec3List& f);
 
+// The mean of x (m): forces are computed from x - origin, so round-off stays proportional
+// to the sheet's size, not to its distance from the world origin.
+Vec3 bending_origin(const Vec3List& x);
+
+// The bending forces of vertices [first, end) only: f_i -= sum_j Q_ij (x_j - origin).
+// Each vertex reads its own row of Q, so vertex blocks can run on separate threads.
+void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
+                        int first, int end, Vec3List& f);
+
 // Adds df/dx (N/m) = -Q (x) I3, the exact Jacobian of the bending forces. It does not
 // depend on x (accepted for a uniform interface), is symmetric and negative semi-definite,
 // so no definiteness projection is needed for Newton / conjugate-gradient solves. Only the

@@ -26,20 +26,21 @@ inline Vec3 corner_force(const TriangleRest& r, const Gradients& g, const Vec3& 
 }
 
 // The hot loop of every explicit step: gather, strain, stress, scatter, written on plain
-// doubles so the compiler keeps everything in registers.
+// doubles so the compiler keeps everything in registers. Triangles [first, end) add their
+// corner forces to out[3 * (vertex - vertex_offset) + k].
 template <bool kDamped>
-void accumulate_forces(const Model& model, const Vec3List& x, const Vec3List* v, Vec3List& f) {
+void accumulate_forces(const Model& model, const Vec3List& x, const Vec3List* v, int first,
+                       int end, int vertex_offset, double* out) {
   const Mat3 E = model.material.stiffness();
   const double e00 = E(0, 0), e01 = E(0, 1), e02 = E(0, 2), e11 = E(1, 1), e12 = E(1, 2),
                e22 = E(2, 2);
   const double tau = model.material.damping;
   const double* px = x[0].data();
   const double* pv = kDamped ? (*v)[0].data() : nullptr;
-  double* pf = f[0].data();
-  const size_t n = model.triangles.size();
+  const int out_offset = 3 * vertex_offset;
   const Tri* tris = model.triangles.data();
   const TriangleRest* rests = model.rest.data();
-  for (size_t t = 0; t < n; ++t) {
+  for (int t = first; t < end; ++t) {
     const int ia = 3 * tris[t][0], ib = 3 * tris[t][1], ic = 3 * tris[t][2];
     const TriangleRest& r = rests[t];
     double U[3], V[3];
@@ -65,14 +66,14 @@ void accumulate_forces(const Model& model, const Vec3List& x, const Vec3List* v,
     const double suu = -r.area * (e00 * euu + e01 * evv + e02 * euv);
     const double svv = -r.area * (e01 * euu + e11 * evv + e12 * euv);
     const double suv = -r.area * (e02 * euu + e12 * evv + e22 * euv);
-    const int corner[3] = {ia, ib, ic};
+    const int corner[3] = {ia - out_offset, ib - out_offset, ic - out_offset};
     for (int j = 0; j < 3; ++j) {
       const double alpha = suu * r.ru[j] + suv * r.rv[j];
       const double beta = svv * r.rv[j] + suv * r.ru[j];
-      double* out = pf + corner[j];
-      out[0] += alpha * U[0] + beta * V[0];
-      out[1] += alpha * U[1] + beta * V[1];
-      out[2] += alpha * U[2] + beta * V[2];
+      double* o = out + corner[j];
+      o[0] += alpha * U[0] + beta * V[0];
+      o[1] += alpha * U[1] + beta * V[1];
+      o[2] += alpha * U[2] + beta * V[2];
     }
   }
 }
@@ -96,10 +97,16 @@ void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], V
 }
 
 void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, Vec3List& f) {
+  if (f.empty()) return;
+  add_membrane_forces(model, x, v, 0, model.num_triangles(), 0, f[0].data());
+}
+
+void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, int first,
+                         int end, int vertex_offset, double* out) {
   if (model.material.damping > 0.0 && v != nullptr) {
-    accumulate_forces<true>(model, x, v, f);
+    accumulate_forces<true>(model, x, v, first, end, vertex_offset, out);
   } else {
-    accumulate_forces<false>(model, x, nullptr, f);
+    accumulate_forces<false>(model, x, nullptr, first, end, vertex_offset, out);
   }
 }
 

@@ -24,6 +24,11 @@ void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], V
 // Adds membrane forces (and damping forces when the material has damping and `v` is given).
 void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, Vec3List& f);
 
+// The same for triangles [first, end) only, added to out[3 * (vertex - vertex_offset) + k]:
+// a chunk of triangles summing into a buffer that covers only the vertices it touches.
+void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, int first,
+                         int end, int vertex_offset, double* out);
+
 // Total membrane energy, J.
 double membrane_energy(const Model& model, const Vec3List& x);
 

@@ -72,7 +72,10 @@ double cylinder_distance(const Vec3& p, const Vec3& c, const Vec3& axis, double 
 }  // namespace
 
 double Obstacle::signed_distance(const Vec3& p, double t, Vec3* normal) const {
-  const Vec3 c = center_at(t);
+  return signed_distance_from(p, center_at(t), normal);
+}
+
+double Obstacle::signed_distance_from(const Vec3& p, const Vec3& c, Vec3* normal) const {
   switch (kind) {
     case ObstacleKind::Sphere: return sphere_distance(p, c, radius, normal);
     case ObstacleKind::Cylinder: return cylinder_distance(p, c, axis, radius, half_length, normal);

@@ -34,6 +34,8 @@ struct Obstacle {
   // Signed distance from p to the surface at time t (m, negative inside) and the
   // outward unit normal of the closest surface point.
   double signed_distance(const Vec3& p, double t, Vec3* normal) const;
+  // The same with the centre (or plane point) already placed: center_at(t).
+  double signed_distance_from(const Vec3& p, const Vec3& placed_center, Vec3* normal) const;
 };
 
 const char* obstacle_kind_name(ObstacleKind kind);

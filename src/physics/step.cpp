@@ -3,35 +3,35 @@
 #include <cmath>
 #include <sstream>
 
-#include "physics/forces.h"
+#include "physics/bending.h"
 #include "physics/implicit.h"
+#include "physics/parallel.h"
 
 namespace tissu {
 
+namespace {
+
+bool is_explicit(Integrator integrator) {
+  return integrator == Integrator::ExplicitEuler || integrator == Integrator::SymplecticEuler ||
+         integrator == Integrator::BenameurDjedi;
+}
+
 // Eq. 9 (explicit Euler), eq. 10 (modified / symplectic Euler) and the paper's
-// "calcul_vitesse_position" as printed (V += h F / (2 m), P += h V).
-void integrate_explicit(const Model& model, State& state, Workspace& ws) {
-  const double h = model.dt;
-  compute_forces(model, state.x, state.v, state.t, ws.f);
-  const int n = model.num_vertices();
-  switch (model.integrator) {
+// "calcul_vitesse_position" as printed (V += h F / (2 m), P += h V), for one vertex.
+void integrate_vertex(Integrator integrator, double h, double inv_mass, const Vec3& f, Vec3& x,
+                      Vec3& v) {
+  switch (integrator) {
     case Integrator::ExplicitEuler:
-      for (int i = 0; i < n; ++i) {
-        state.x[i] += h * state.v[i];
-        state.v[i] += (h * model.inv_mass[i]) * ws.f[i];
-      }
+      x += h * v;
+      v += (h * inv_mass) * f;
       break;
     case Integrator::SymplecticEuler:
-      for (int i = 0; i < n; ++i) {
-        state.v[i] += (h * model.inv_mass[i]) * ws.f[i];
-        state.x[i] += h * state.v[i];
-      }
+      v += (h * inv_mass) * f;
+      x += h * v;
       break;
     case Integrator::BenameurDjedi:
-      for (int i = 0; i < n; ++i) {
-        state.v[i] += (h * model.inv_mass[i] / 2.0) * ws.f[i];
-        state.x[i] += h * state.v[i];
-      }
+      v += (h * inv_mass / 2.0) * f;
+      x += h * v;
       break;
     default:
       break;
@@ -41,63 +41,89 @@ void integrate_explicit(const Model& model, State& state, Workspace& ws) {
 // Section 3, as printed: halve the displacement of a vertex up to n_it times while it is
 // longer than the threshold; if the last measured displacement exceeded the threshold,
 // recompute the velocity from the corrected displacement.
-void apply_position_correction(const Model& model, const Vec3List& x_old, State& state) {
-  const PositionCorrection& pc = *model.position_correction;
-  const double h = model.dt;
-  for (int i = 0; i < model.num_vertices(); ++i) {
-    double dist = 0.0;
-    for (int it = 0; it < pc.iterations; ++it) {
-      const Vec3 diff = state.x[i] - x_old[i];
-      dist = diff.norm();
-      if (dist > pc.threshold) state.x[i] = x_old[i] + diff / 2.0;
-    }
-    if (dist > pc.threshold) state.v[i] = (state.x[i] - x_old[i]) / h;
+void correct_position(const PositionCorrection& pc, double h, const Vec3& x_old, Vec3& x,
+                      Vec3& v) {
+  double dist = 0.0;
+  for (int it = 0; it < pc.iterations; ++it) {
+    const Vec3 diff = x - x_old;
+    dist = diff.norm();
+    if (dist > pc.threshold) x = x_old + diff / 2.0;
   }
+  if (dist > pc.threshold) v = (x - x_old) / h;
 }
 
-// Section 2.3 with the projection corrected (notes.md): a vertex inside an obstacle moves
-// to the closest surface point; the inward normal velocity relative to the obstacle is
-// removed and Coulomb friction slows the tangential velocity by mu * |removed normal part|.
-void resolve_collisions(const Model& model, double t, Vec3List& x, Vec3List& v) {
-  constexpr int kPasses = 4;  // overlapping obstacles: repeat until no vertex is inside
+// Signed distance (m) from p to a placed obstacle's surface and the outward normal, or
+// +infinity when p is outside a sphere (the common case, decided without a square root).
+double distance_if_inside(const PlacedObstacle& placed, const Vec3& p, Vec3* normal) {
+  const Obstacle& ob = *placed.obstacle;
+  if (ob.kind == ObstacleKind::Sphere &&
+      (p - placed.center).squaredNorm() >= ob.radius * ob.radius) {
+    return INFINITY;
+  }
+  return ob.signed_distance_from(p, placed.center, normal);
+}
+
+// Section 2.3 with the projection corrected (notes.md), for one vertex: inside an obstacle
+// it moves to the closest surface point; the inward normal velocity relative to the
+// obstacle is removed and Coulomb friction slows the tangential velocity by
+// mu * |removed normal part|. Overlapping obstacles: repeated until it is inside none.
+void collide_vertex(const std::vector<PlacedObstacle>& obstacles, Vec3& x, Vec3& v) {
+  constexpr int kPasses = 4;
   for (int pass = 0; pass < kPasses; ++pass) {
-    bool any_inside = false;
-    for (const Obstacle& ob : model.obstacles) {
-      const Vec3 ob_velocity = ob.velocity(t);
-      for (int i = 0; i < model.num_vertices(); ++i) {
-        if (model.pinned[i]) continue;
-        Vec3 n;
-        const double d = ob.signed_distance(x[i], t, &n);
-        if (d >= 0.0) continue;
-        any_inside = true;
-        x[i] -= d * n;
-        const Vec3 relative = v[i] - ob_velocity;
-        const double vn = relative.dot(n);
-        if (vn >= 0.0) continue;
-        Vec3 tangential = relative - vn * n;
-        const double vt = tangential.norm();
-        const double slow = ob.friction * (-vn);
-        tangential = (vt <= slow) ? Vec3::Zero() : Vec3(tangential * (1.0 - slow / vt));
-        v[i] = ob_velocity + tangential;
-      }
+    bool inside = false;
+    for (const PlacedObstacle& placed : obstacles) {
+      Vec3 n;
+      const double d = distance_if_inside(placed, x, &n);
+      if (d >= 0.0) continue;
+      inside = true;
+      x -= d * n;
+      const Vec3 relative = v - placed.velocity;
+      const double vn = relative.dot(n);
+      if (vn >= 0.0) continue;
+      Vec3 tangential = relative - vn * n;
+      const double vt = tangential.norm();
+      const double slow = placed.obstacle->friction * (-vn);
+      tangential = (vt <= slow) ? Vec3::Zero() : Vec3(tangential * (1.0 - slow / vt));
+      v = placed.velocity + tangential;
     }
-    if (!any_inside) break;
+    if (!inside) break;
   }
 }
 
-std::optional<Divergence> check_divergence(const Model& model, const State& state) {
+void place_obstacles(const Model& model, double t, std::vector<PlacedObstacle>& placed) {
+  placed.clear();
+  for (const Obstacle& ob : model.obstacles) placed.push_back({&ob, ob.center_at(t), ob.velocity(t)});
+}
+
+void check_vertex(int i, const Vec3& x, const Vec3& v, BlockCheck& check) {
+  if (check.first_bad >= 0) return;
+  const bool finite = x.allFinite();
+  if (!finite || !v.allFinite()) {
+    check.first_bad = i;
+    check.bad_position = !finite;
+    return;
+  }
+  const double s2 = v.squaredNorm();
+  if (s2 > check.top_speed2) {
+    check.top_speed2 = s2;
+    check.fastest = i;
+  }
+}
+
+// The blocks' findings in vertex order: the first non-finite vertex, else the first of
+// the fastest when it exceeds model.max_speed.
+std::optional<Divergence> divergence_of(const Model& model, const State& state,
+                                        const std::vector<BlockCheck>& checks) {
   int fastest = -1;
   double top_speed2 = 0.0;
-  for (int i = 0; i < model.num_vertices(); ++i) {
-    const bool finite = state.x[i].allFinite();
-    if (!finite || !state.v[i].allFinite()) {
-      return Divergence{state.step, state.t, i,
-                        finite ? "non-finite velocity" : "non-finite position"};
+  for (const BlockCheck& c : checks) {
+    if (c.first_bad >= 0) {
+      return Divergence{state.step, state.t, c.first_bad,
+                        c.bad_position ? "non-finite position" : "non-finite velocity"};
     }
-    const double s2 = state.v[i].squaredNorm();
-    if (s2 > top_speed2) {
-      top_speed2 = s2;
-      fastest = i;
+    if (c.top_speed2 > top_speed2) {
+      top_speed2 = c.top_speed2;
+      fastest = c.fastest;
     }
   }
   if (top_speed2 > model.max_speed * model.max_speed) {
@@ -110,29 +136,52 @@ std::optional<Divergence> check_divergence(const Model& model, const State& stat
   return std::nullopt;
 }
 
+}  // namespace
+
+void resolve_collisions(const Model& model, double t, Vec3List& x, Vec3List& v) {
+  std::vector<PlacedObstacle> placed;
+  place_obstacles(model, t, placed);
+  for (int i = 0; i < model.num_vertices(); ++i) {
+    if (!model.pinned[i]) collide_vertex(placed, x[i], v[i]);
+  }
+}
+
 std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) {
   const int n = model.num_vertices();
+  const double h = model.dt;
+  const double t_new = static_cast<double>(state.step + 1) * h;
+  ChunkedForces& forces = ws.forces;
+  forces.plan(model);
   ws.f.resize(n);
-  if (model.position_correction) ws.x_old = state.x;
+  ws.checks.assign(forces.num_blocks(), BlockCheck{});
+  place_obstacles(model, t_new, ws.placed);
+  const bool explicit_step = is_explicit(model.integrator);
 
-  switch (model.integrator) {
-    case Integrator::ExplicitEuler:
-    case Integrator::SymplecticEuler:
-    case Integrator::BenameurDjedi:
-      integrate_explicit(model, state, ws);
-      break;
-    case Integrator::BackwardEuler:
-    case Integrator::Bdf2:
-    case Integrator::ImplicitMidpoint:
-      integrate_implicit(model, state, ws);
-      break;
+  if (explicit_step) {
+    if (model.bending) forces.origin = bending_origin(state.x);
+    forces_stage1(model, state.x, state.v, state.t, ws.threads, forces, ws.f);
+  } else {
+    if (model.position_correction) ws.x_old = state.x;
+    integrate_implicit(model, state, ws);
   }
-  if (model.position_correction) apply_position_correction(model, ws.x_old, state);
-  const double t_new = static_cast<double>(state.step + 1) * model.dt;
-  if (!model.obstacles.empty()) resolve_collisions(model, t_new, state.x, state.v);
+
+  // Per vertex block: finish the forces and integrate (explicit), correct, collide, check.
+  parallel_for(ws.threads, forces.num_blocks(), [&](int block) {
+    if (explicit_step) forces_stage2(model, state.v, block, forces, ws.f);
+    for (int i = forces.block_begin(block); i < forces.block_end(block); ++i) {
+      Vec3& x = state.x[i];
+      Vec3& v = state.v[i];
+      const Vec3 x_start = (explicit_step || !model.position_correction) ? x : ws.x_old[i];
+      if (explicit_step) integrate_vertex(model.integrator, h, model.inv_mass[i], ws.f[i], x, v);
+      if (model.position_correction) correct_position(*model.position_correction, h, x_start, x, v);
+      if (!ws.placed.empty() && !model.pinned[i]) collide_vertex(ws.placed, x, v);
+      check_vertex(i, x, v, ws.checks[block]);
+    }
+  });
+
   state.step += 1;
   state.t = t_new;
-  return check_divergence(model, state);
+  return divergence_of(model, state, ws.checks);
 }
 
 }  // namespace tissu

@@ -1,25 +1,50 @@
 // One simulation step as a short pipeline of named stages (design.md):
 //   forces -> integrate -> position correction (if declared) -> collisions (if any)
 //   -> advance time -> divergence check.
+// Explicit steps run the stages per vertex block after the forces' triangle stage, on
+// Workspace::threads threads; every vertex is computed the same way on any number of
+// threads, so the results are the same bits.
 #pragma once
 
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/types.h"
+#include "physics/forces.h"
 #include "physics/model.h"
 
 namespace tissu {
 
 struct ImplicitSolver;  // physics/implicit.cpp: Newton/PCG caches of the implicit steps
 
+// An obstacle placed at one time: its centre (or plane point) and rigid velocity.
+struct PlacedObstacle {
+  const Obstacle* obstacle = nullptr;
+  Vec3 center = Vec3::Zero();    // m
+  Vec3 velocity = Vec3::Zero();  // m/s
+};
+
+// What the divergence check found in one vertex block.
+struct BlockCheck {
+  int first_bad = -1;           // first vertex with a non-finite position or velocity
+  bool bad_position = false;    // that vertex's position (not only its velocity) is bad
+  int fastest = -1;             // first vertex with the largest speed
+  double top_speed2 = 0.0;      // its squared speed, m^2/s^2
+};
+
 // Scratch memory reused across steps (no allocation in the step after the first).
 struct Workspace {
+  // Threads a step may use (the calling thread included). Results do not depend on it.
+  int threads = 1;
   Vec3List f;      // (V) forces, N
   Vec3List x_old;  // (V) positions at the start of the step, m (position correction)
   Vec3List x_prev, v_prev;  // (V) previous step's state (BDF-2)
   bool has_prev = false;
+  ChunkedForces forces;                 // force summation order and buffers
+  std::vector<PlacedObstacle> placed;   // obstacles at the end of the step
+  std::vector<BlockCheck> checks;       // (vertex blocks) divergence check
   // Implicit solver statistics of the last step.
   int newton_iterations = 0;
   int cg_iterations = 0;
@@ -39,10 +64,8 @@ struct Divergence {
 // runs away (a vertex faster than model.max_speed); the state is then left as computed.
 std::optional<Divergence> step(const Model& model, State& state, Workspace& ws);
 
-// Stages, exposed for tests and for other integrators.
-void integrate_explicit(const Model& model, State& state, Workspace& ws);
-void apply_position_correction(const Model& model, const Vec3List& x_old, State& state);
+// Collision stage on its own (section 2.3): pushes every free vertex inside an obstacle at
+// time t out to its surface and applies the velocity response.
 void resolve_collisions(const Model& model, double t, Vec3List& x, Vec3List& v);
-std::optional<Divergence> check_divergence(const Model& model, const State& state);
 
 }  // namespace tissu

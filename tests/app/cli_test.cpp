@@ -60,7 +60,7 @@ TEST_F(Cli, HelpListsEveryOption) {
   std::ifstream in(out);
   std::stringstream ss;
   ss << in.rdbuf();
-  for (const char* option : {"--out", "--set", "--obj-every", "--report"}) {
+  for (const char* option : {"--out", "--set", "--obj-every", "--threads", "--report"}) {
     EXPECT_NE(ss.str().find(option), std::string::npos) << option;
   }
 }
@@ -125,6 +125,12 @@ TEST_F(Cli, BadOverrideAndUsageExitTwo) {
   r = run("run " + path + " --frobnicate");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "tissu: tissu run: unknown option --frobnicate (see tissu run --help)\n");
+  r = run("run " + path + " --threads 0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "tissu: --threads: expected an integer >= 1, got \"0\"\n");
+  r = run("run " + path + " --threads 100000");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "tissu: --threads: expected at most 256, got 100000\n");
   r = run("run");
   EXPECT_EQ(r.exit_code, 2);
   r = run("fly " + path);

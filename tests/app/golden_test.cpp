@@ -36,9 +36,10 @@ fs::path scratch(const std::string& name) {
 
 // Renders the last frame of a scene with the tissu program into `out`; returns the PNG.
 fs::path render_last_frame(const fs::path& scene, const fs::path& out, const std::string& env = "",
-                           bool mp4 = false) {
+                           bool mp4 = false, const std::string& options = "") {
   const std::string command = env + " " + TISSU_BINARY + " render " + scene.string() + " --out " +
-                              out.string() + (mp4 ? "" : " --no-mp4") + " --stills 1 --quiet";
+                              out.string() + (mp4 ? "" : " --no-mp4") + " --stills 1 --quiet " +
+                              options;
   EXPECT_EQ(std::system(command.c_str()), 0) << command;
   for (const auto& entry : fs::directory_iterator(out / "stills")) return entry.path();
   return {};
@@ -93,16 +94,20 @@ nlohmann::json frames_of(const fs::path& report) {
 }
 
 // The same scene gives bit-identical simulation results, frames and video on every run and
-// at any rasterizer thread count.
+// at any simulation and rasterizer thread count.
 TEST(Determinism, BitIdenticalAtAnyThreadCount) {
   const fs::path scene = source_dir() / "tests/golden/scenes/sphere.json";
   const fs::path a = scratch("det_a"), b = scratch("det_b");
-  const fs::path frame_a = render_last_frame(scene, a, "LP_NUM_THREADS=1", /*mp4=*/true);
-  const fs::path frame_b = render_last_frame(scene, b, "LP_NUM_THREADS=4", /*mp4=*/true);
+  const fs::path frame_a =
+      render_last_frame(scene, a, "LP_NUM_THREADS=1", /*mp4=*/true, "--threads 1");
+  const fs::path frame_b =
+      render_last_frame(scene, b, "LP_NUM_THREADS=4", /*mp4=*/true, "--threads 3");
   EXPECT_EQ(file_bytes(frame_a), file_bytes(frame_b));
   EXPECT_EQ(file_bytes(a / "golden_sphere.mp4"), file_bytes(b / "golden_sphere.mp4"));
   EXPECT_GT(file_bytes(a / "golden_sphere.mp4").size(), 1000u);
   EXPECT_EQ(frames_of(a / "report.json"), frames_of(b / "report.json"));
+  std::ifstream report_b(b / "report.json");
+  EXPECT_EQ(nlohmann::json::parse(report_b)["threads"], 3);
 }
 
 }  // namespace
