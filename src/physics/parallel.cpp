@@ -55,8 +55,10 @@ class HelperPool {
 
   void run(int shares, const std::function<void(int)>& share_body) {
     while (static_cast<int>(helpers_.size()) < shares - 1) {
+      // A new helper waits for the next generation, not for one already done.
       const int index = static_cast<int>(helpers_.size());
-      helpers_.emplace_back([this, index] { helper_loop(index); });
+      const uint64_t current = generation_.load(std::memory_order_relaxed);
+      helpers_.emplace_back([this, index, current] { helper_loop(index, current); });
     }
     body_ = &share_body;
     shares_ = shares;
@@ -75,9 +77,8 @@ class HelperPool {
   }
 
  private:
-  void helper_loop(int index) {
+  void helper_loop(int index, uint64_t seen) {
     pthread_setname_np(pthread_self(), kSimulationHelperThreadName);
-    uint64_t seen = 0;
     for (;;) {
       const auto started = [&] { return generation_.load(std::memory_order_acquire) != seen; };
       if (!spin_until(started)) {
