@@ -1,5 +1,6 @@
 #include "physics/step.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -10,6 +11,13 @@
 namespace tissu {
 
 namespace {
+
+// Threads worth using: handing work out costs a few microseconds per stage, so a small
+// mesh (below about kTrianglesPerThread triangles per thread) runs on fewer threads.
+constexpr int kTrianglesPerThread = 2000;
+int useful_threads(int requested, const Model& model) {
+  return std::max(1, std::min(requested, model.num_triangles() / kTrianglesPerThread));
+}
 
 bool is_explicit(Integrator integrator) {
   return integrator == Integrator::ExplicitEuler || integrator == Integrator::SymplecticEuler ||
@@ -156,17 +164,18 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   ws.checks.assign(forces.num_blocks(), BlockCheck{});
   place_obstacles(model, t_new, ws.placed);
   const bool explicit_step = is_explicit(model.integrator);
+  const int threads = useful_threads(ws.threads, model);
 
   if (explicit_step) {
     if (model.bending) forces.origin = bending_origin(state.x);
-    forces_stage1(model, state.x, state.v, state.t, ws.threads, forces, ws.f);
+    forces_stage1(model, state.x, state.v, state.t, threads, forces, ws.f);
   } else {
     if (model.position_correction) ws.x_old = state.x;
     integrate_implicit(model, state, ws);
   }
 
   // Per vertex block: finish the forces and integrate (explicit), correct, collide, check.
-  parallel_for(ws.threads, forces.num_blocks(), [&](int block) {
+  parallel_for(threads, forces.num_blocks(), [&](int block) {
     if (explicit_step) forces_stage2(model, state.v, block, forces, ws.f);
     for (int i = forces.block_begin(block); i < forces.block_end(block); ++i) {
       Vec3& x = state.x[i];

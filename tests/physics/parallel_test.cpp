@@ -75,11 +75,11 @@ TEST(ParallelFor, BalancesSharesByCost) {
 }
 
 // A scene with every force term and obstacle kind, and enough triangles for several
-// chunks and vertex blocks.
+// chunks and vertex blocks and for steps to use 3 threads (2000 triangles per thread).
 Simulation busy_scene(const char* integrator, double dt) {
   nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "busy", "duration": 1.0,
-    "cloth": {"mesh": {"generate": "rectangle", "size": [0.8, 0.8], "triangles": 1500,
+    "cloth": {"mesh": {"generate": "rectangle", "size": [0.8, 0.8], "triangles": 6000,
                        "irregular": true, "seed": 11},
               "transform": {"translate": [0.0, 0.0, 0.19]},
               "material": "cotton",
@@ -156,8 +156,8 @@ TEST(ParallelSteps, SameBitsOnAnyThreadCount) {
     double dt;
     int steps;
   };
-  for (const Case& c : {Case{"symplectic_euler", 4e-5, 600}, Case{"explicit_euler", 2e-5, 200},
-                        Case{"benameur_djedi", 4e-5, 200}, Case{"backward_euler", 2e-3, 4}}) {
+  for (const Case& c : {Case{"symplectic_euler", 2e-5, 600}, Case{"explicit_euler", 1e-5, 200},
+                        Case{"benameur_djedi", 2e-5, 200}, Case{"backward_euler", 2e-3, 4}}) {
     State reference;
     for (int threads : {1, 2, 3}) {
       Simulation sim = busy_scene(c.integrator, c.dt);
@@ -169,7 +169,7 @@ TEST(ParallelSteps, SameBitsOnAnyThreadCount) {
       if (threads == 1) {
         reference = sim.state;
         // The collision stage had work: the cloth starts inside the sphere and the cylinder
-        // and ends within 1 mm of every obstacle.
+        // and ends within 1 cm of every obstacle.
         const Simulation start = busy_scene(c.integrator, c.dt);
         for (size_t k = 0; k < sim.model.obstacles.size(); ++k) {
           const Obstacle& ob = sim.model.obstacles[k];
@@ -183,7 +183,7 @@ TEST(ParallelSteps, SameBitsOnAnyThreadCount) {
           if (ob.kind != ObstacleKind::Plane) {
             EXPECT_LT(closest_start, 0.0) << obstacle_kind_name(ob.kind);
           }
-          EXPECT_LT(closest_end, 1e-3) << c.integrator << ", " << obstacle_kind_name(ob.kind);
+          EXPECT_LT(closest_end, 1e-2) << c.integrator << ", " << obstacle_kind_name(ob.kind);
         }
       } else {
         EXPECT_TRUE(same_bits(sim.state.x, reference.x)) << c.integrator << ", " << threads;
