@@ -63,6 +63,14 @@ void forces_stage1(const Model& model, const Vec3List& x, const Vec3List& v, dou
 void forces_stage2(const Model& model, const Vec3List& v, int block,
                    const ChunkedForces& forces, Vec3List& f);
 
+// Threads worth using for a model's forces and explicit steps, of `requested`: handing
+// work out costs a few microseconds per stage, so a mesh gets at most one thread per
+// kTrianglesPerThread triangles.
+constexpr int kTrianglesPerThread = 2000;
+inline int force_threads(int requested, const Model& model) {
+  return std::max(1, std::min(requested, model.num_triangles() / kTrianglesPerThread));
+}
+
 // f = membrane (+ bending) + gravity + air damping + wind at (x, v, t). N per vertex.
 // The same bits whatever `threads` is (at most that many threads work on it).
 void compute_forces(const Model& model, const Vec3List& x, const Vec3List& v, double t,

@@ -250,6 +250,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
                   const StepEquation& eq) {
   const int n = model.num_vertices();
   const ImplicitOptions& opt = model.implicit;
+  const int threads = force_threads(ws.threads, model);
   ImplicitReport& report = s.report;
   {
     // Reset, keeping the vectors' capacity.
@@ -266,7 +267,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   // Residual at the initial guess.
   std::clock_t t0 = std::clock();
   positions(model, s, eq, state.x, s.v, s.x);
-  compute_forces(model, s.x, s.v, eq.t_force, ws.f, ws.forces, ws.threads);
+  compute_forces(model, s.x, s.v, eq.t_force, ws.f, ws.forces, threads);
   double r = residual_norm(model, s, eq, s.v, ws.f);
   report.seconds_residual += processor_seconds_since(t0);
   const double r0 = r;
@@ -292,7 +293,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     const Vec3List* f_lin = &ws.f;
     if (k == 0) {
       x_lin = &state.x;
-      compute_forces(model, state.x, s.v, eq.t_force, s.f_lin, ws.forces, ws.threads);
+      compute_forces(model, state.x, s.v, eq.t_force, s.f_lin, ws.forces, threads);
       f_lin = &s.f_lin;
     }
     s.dfdx.clear();
@@ -338,7 +339,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
         if (!model.pinned[i]) s.v_try[i] += alpha * s.dv.segment<3>(3 * i);
       }
       positions(model, s, eq, state.x, s.v_try, s.x_try);
-      compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try, ws.forces, ws.threads);
+      compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try, ws.forces, threads);
       const double r_try = residual_norm(model, s, eq, s.v_try, s.f_try);
       if (r_try <= (1.0 - kSufficientDecrease * alpha) * r) {
         accepted = alpha;
@@ -357,7 +358,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
         if (!model.pinned[i]) s.v_try[i] += best_alpha * s.dv.segment<3>(3 * i);
       }
       positions(model, s, eq, state.x, s.v_try, s.x_try);
-      compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try, ws.forces, ws.threads);
+      compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try, ws.forces, threads);
       r = residual_norm(model, s, eq, s.v_try, s.f_try);
     }
     report.seconds_residual += processor_seconds_since(t0);

@@ -1,6 +1,5 @@
 #include "physics/step.h"
 
-#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -11,13 +10,6 @@
 namespace tissu {
 
 namespace {
-
-// Threads worth using: handing work out costs a few microseconds per stage, so a small
-// mesh (below about kTrianglesPerThread triangles per thread) runs on fewer threads.
-constexpr int kTrianglesPerThread = 2000;
-int useful_threads(int requested, const Model& model) {
-  return std::max(1, std::min(requested, model.num_triangles() / kTrianglesPerThread));
-}
 
 bool is_explicit(Integrator integrator) {
   return integrator == Integrator::ExplicitEuler || integrator == Integrator::SymplecticEuler ||
@@ -164,7 +156,7 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   ws.checks.assign(forces.num_blocks(), BlockCheck{});
   place_obstacles(model, t_new, ws.placed);
   const bool explicit_step = is_explicit(model.integrator);
-  const int threads = useful_threads(ws.threads, model);
+  const int threads = force_threads(ws.threads, model);
 
   if (explicit_step) {
     if (model.bending) forces.origin = bending_origin(state.x);
