@@ -39,10 +39,11 @@ void add_wind(const Model& model, const Wind& wind, const Vec3List& x, const Vec
 }
 
 void ChunkedForces::plan(const Model& model) {
-  if (num_vertices == model.num_vertices() && num_triangles == model.num_triangles() &&
-      bending == (model.bending != nullptr)) {
+  if (planned_triangles == model.triangles.data() && num_vertices == model.num_vertices() &&
+      num_triangles == model.num_triangles() && bending == (model.bending != nullptr)) {
     return;
   }
+  planned_triangles = model.triangles.data();
   bending = model.bending != nullptr;
   num_vertices = model.num_vertices();
   num_triangles = model.num_triangles();

@@ -33,7 +33,7 @@ struct ChunkedForces {
   Vec3List partial;  // the chunks' buffers, back to back, N
   Vec3 origin = Vec3::Zero();  // bending's reference point for this evaluation, m
 
-  // Plans for `model` unless already planned for a mesh of its size and terms.
+  // Plans for `model` unless already planned for it (same triangle array, sizes and terms).
   void plan(const Model& model);
   int num_blocks() const {
     return (num_vertices + kVerticesPerBlock - 1) / kVerticesPerBlock;
@@ -47,6 +47,7 @@ struct ChunkedForces {
   std::vector<int> stage1_items;
   std::vector<double> stage1_cost;  // estimated cost of each item (relative units)
   bool bending = false;  // stage1_items include the bending blocks
+  const Tri* planned_triangles = nullptr;  // the triangle array planned for
 };
 
 // Stage 1 (see ChunkedForces): the membrane and wind forces of triangle chunk `chunk` into

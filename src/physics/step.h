@@ -34,7 +34,8 @@ struct BlockCheck {
   double top_speed2 = 0.0;      // its squared speed, m^2/s^2
 };
 
-// Scratch memory reused across steps (no allocation in the step after the first).
+// Scratch memory reused across steps (no allocation in the step after the first). A
+// Workspace serves one Model: its caches are planned from the model it first steps.
 struct Workspace {
   // Threads a step may use (the calling thread included). Results do not depend on it.
   int threads = 1;
