@@ -6,6 +6,8 @@
 //                           edge (alpha, blended over what is behind)
 //   PLANE + GROUND          the ground: as a plane, but opaque: it blends itself into the
 //                           background gradient (and into a plane obstacle lying in it)
+//   PLANE + GROUND + OPAQUE the ground where it does not fade (the renderer draws only the
+//                           cells well inside the fade's start with it): its lit colour
 //   ... + RECEIVE_SHADOW    the ground darkened by the key light's shadow map
 #include "lighting.glsl"
 #ifdef GROUND
@@ -47,8 +49,16 @@ flat in vec3 v_under_lit;
 uniform float u_under;
 #endif
 
+#if defined(GROUND) && defined(OPAQUE)
+// Alpha is 1 here (r <= 0.45): nothing shows through, so no fade or background blend.
 void main() {
   vec3 color = gl_FrontFacing ? mix(v_front_shaded, v_front_lit, key_visibility()) : v_back_lit;
+  frag_color = vec4(to_display(color), 1.0);
+}
+#else
+void main() {
+  vec3 color = gl_FrontFacing ? mix(v_front_shaded, v_front_lit, key_visibility()) : v_back_lit;
+  // Fades from r = 0.45 (the renderer's kGroundFadeStart) to 0.95.
   float r = length(v_position - u_fade_center) / u_fade_radius;
   float alpha = 1.0 - smoothstep(0.45, 0.95, r);
 #ifdef GROUND
@@ -60,6 +70,7 @@ void main() {
   frag_color = vec4(to_display(color), alpha);
 #endif
 }
+#endif
 
 #else
 

@@ -44,48 +44,70 @@ std::optional<GroundRect> shadow_footprint(const Box3& casters, const Vec3& dire
   return r;
 }
 
-IndexedMesh ground_mesh(const GroundRect& square, double height) {
-  IndexedMesh mesh;
-  const glm::vec3 n(0, 0, 1);
-  const float z = static_cast<float>(height);
-  for (int j = 0; j < 2; ++j) {
-    for (int i = 0; i < 2; ++i) {
-      mesh.vertices.push_back({glm::vec3(static_cast<float>(i ? square.max.x : square.min.x),
-                                         static_cast<float>(j ? square.max.y : square.min.y), z),
-                               n, glm::vec2(0.0f)});
+SplitGround split_ground(const GroundRect& square, double height,
+                         const std::optional<GroundRect>& footprint, const glm::dvec2& fade_centre,
+                         double opaque_radius, int divisions) {
+  const int n = std::max(divisions, 1);
+  // The lines of the grid along one axis: regular, plus the footprint's edges.
+  auto lines = [&](double lo, double hi, std::optional<double> cut_lo, std::optional<double> cut_hi) {
+    std::vector<float> at;
+    for (int i = 0; i <= n; ++i) {
+      at.push_back(static_cast<float>(i == n ? hi : lo + (hi - lo) * i / n));
     }
+    for (const std::optional<double>& cut : {cut_lo, cut_hi}) {
+      if (cut) at.push_back(static_cast<float>(std::clamp(*cut, lo, hi)));
+    }
+    std::sort(at.begin(), at.end());
+    at.erase(std::unique(at.begin(), at.end()), at.end());
+    return at;
+  };
+  // The footprint clamped to the square, when some of it is inside.
+  std::optional<GroundRect> inner;
+  if (footprint) {
+    const glm::dvec2 lo = glm::clamp(footprint->min, square.min, square.max);
+    const glm::dvec2 hi = glm::clamp(footprint->max, square.min, square.max);
+    if (lo.x < hi.x && lo.y < hi.y) inner = GroundRect{lo, hi};
   }
-  mesh.indices = {0, 1, 3, 0, 3, 2};
-  return mesh;
-}
+  const std::vector<float> xs =
+      lines(square.min.x, square.max.x, inner ? std::optional<double>(inner->min.x) : std::nullopt,
+            inner ? std::optional<double>(inner->max.x) : std::nullopt);
+  const std::vector<float> ys =
+      lines(square.min.y, square.max.y, inner ? std::optional<double>(inner->min.y) : std::nullopt,
+            inner ? std::optional<double>(inner->max.y) : std::nullopt);
+  // After rounding to float, as the cells' corners are drawn.
+  std::optional<GroundRect> cut;
+  if (inner) {
+    cut = GroundRect{glm::dvec2(static_cast<float>(inner->min.x), static_cast<float>(inner->min.y)),
+                     glm::dvec2(static_cast<float>(inner->max.x), static_cast<float>(inner->max.y))};
+  }
 
-SplitGround split_ground(const GroundRect& square, double height, const GroundRect& inner) {
-  SplitGround split;
-  const glm::dvec2 lo = glm::clamp(inner.min, square.min, square.max);
-  const glm::dvec2 hi = glm::clamp(inner.max, square.min, square.max);
-  if (!(lo.x < hi.x && lo.y < hi.y)) {
-    split.outer = ground_mesh(square, height);
-    return split;
-  }
-  const float xs[4] = {static_cast<float>(square.min.x), static_cast<float>(lo.x),
-                       static_cast<float>(hi.x), static_cast<float>(square.max.x)};
-  const float ys[4] = {static_cast<float>(square.min.y), static_cast<float>(lo.y),
-                       static_cast<float>(hi.y), static_cast<float>(square.max.y)};
-  const glm::vec3 n(0, 0, 1);
+  const glm::vec3 normal(0, 0, 1);
   const float z = static_cast<float>(height);
   std::vector<MeshVertex> grid;
-  for (int j = 0; j < 4; ++j) {
-    for (int i = 0; i < 4; ++i) grid.push_back({glm::vec3(xs[i], ys[j], z), n, glm::vec2(0.0f)});
+  for (float y : ys) {
+    for (float x : xs) grid.push_back({glm::vec3(x, y, z), normal, glm::vec2(0.0f)});
   }
-  split.outer.vertices = grid;
-  split.inner.vertices = grid;
-  for (uint32_t j = 0; j < 3; ++j) {
-    for (uint32_t i = 0; i < 3; ++i) {
-      const uint32_t a = j * 4 + i, b = a + 1, c = a + 4, d = c + 1;
-      // Cells of zero width (the footprint reaching the square's edge) are left out.
-      if (xs[i] == xs[i + 1] || ys[j] == ys[j + 1]) continue;
-      IndexedMesh& mesh = (i == 1 && j == 1) ? split.inner : split.outer;
-      mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+  SplitGround split;
+  for (IndexedMesh* part : {&split.fading, &split.opaque, &split.shadowed_fading, &split.shadowed_opaque}) {
+    part->vertices = grid;
+  }
+  auto within_disc = [&](double x, double y) {
+    const double dx = x - fade_centre.x, dy = y - fade_centre.y;
+    return dx * dx + dy * dy <= opaque_radius * opaque_radius;
+  };
+  const uint32_t row = static_cast<uint32_t>(xs.size());
+  for (uint32_t j = 0; j + 1 < ys.size(); ++j) {
+    for (uint32_t i = 0; i + 1 < xs.size(); ++i) {
+      const double x0 = xs[i], x1 = xs[i + 1], y0 = ys[j], y1 = ys[j + 1];
+      const bool shadowed = cut && x0 >= cut->min.x && x1 <= cut->max.x && y0 >= cut->min.y &&
+                            y1 <= cut->max.y;
+      // A cell is convex, and so is the disc: all four corners inside means all of it.
+      const bool opaque = opaque_radius > 0.0 && within_disc(x0, y0) && within_disc(x1, y0) &&
+                          within_disc(x0, y1) && within_disc(x1, y1);
+      IndexedMesh& part = shadowed ? (opaque ? split.shadowed_opaque : split.shadowed_fading)
+                                   : (opaque ? split.opaque : split.fading);
+      const uint32_t a = j * row + i, b = a + 1, c = a + row, d = c + 1;
+      part.indices.insert(part.indices.end(), {a, b, d, a, d, c});
     }
   }
   return split;

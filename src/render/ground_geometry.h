@@ -1,7 +1,7 @@
 // Geometry that keeps the ground and the background cheap on a software rasterizer,
 // where every pass over a pixel costs (four times over with MSAA):
 //  - the ground square split so that only the part where the key light's shadow can fall
-//    runs the shadow-map look-up, and
+//    runs the shadow-map look-up, and only the part near its edge works out its fade, and
 //  - the background drawn only outside the ground's outline on screen.
 #pragma once
 
@@ -26,15 +26,22 @@ struct GroundRect {
 std::optional<GroundRect> shadow_footprint(const Box3& casters, const Vec3& direction,
                                            double height, double margin);
 
-// The square `square` (the ground, world coordinates, normal +z) split along the lines of
-// `inner` (clamped to the square) into its middle cell and the eight cells around it
-// (3 x 3 cells, shared corners, counter-clockwise seen from +z).
+// The square `square` (the ground, world coordinates, normal +z) cut into cells by a
+// regular grid of `divisions` x `divisions` cells plus the lines of `footprint` (clamped
+// to the square), with shared corners (no T-junctions, so no cracks between the parts),
+// counter-clockwise seen from +z. Each cell goes to the part whose shader it needs: inside
+// the footprint or not (the shadow look-up), and entirely within `opaque_radius` of
+// `fade_centre` or not (where the ground is sure not to fade, its colour is the flat lit
+// colour: no fade or background blend to work out per pixel).
 struct SplitGround {
-  IndexedMesh inner;  // empty when `inner` misses the square
-  IndexedMesh outer;
+  IndexedMesh fading;           // outside the footprint, reaching past the opaque disc
+  IndexedMesh opaque;           // outside the footprint, inside the opaque disc
+  IndexedMesh shadowed_fading;  // inside the footprint, reaching past the opaque disc
+  IndexedMesh shadowed_opaque;  // inside the footprint and the opaque disc
 };
-SplitGround split_ground(const GroundRect& square, double height, const GroundRect& inner);
-IndexedMesh ground_mesh(const GroundRect& square, double height);  // one cell
+SplitGround split_ground(const GroundRect& square, double height,
+                         const std::optional<GroundRect>& footprint, const glm::dvec2& fade_centre,
+                         double opaque_radius, int divisions);
 
 // Triangles (normalized device x, y) covering the whole viewport except the inside of
 // the convex polygon `corners` (clip-space positions, before the perspective division),

@@ -28,6 +28,11 @@ const Vec3 kObstacleColor(0.60, 0.64, 0.70);
 const Vec3 kPlaneColor(0.70, 0.70, 0.66);
 // A plane obstacle this close to the ground (same side up) is drawn as part of the ground.
 constexpr double kGroundMergeDistance = 0.01;  // m
+// Planes fade out from this fraction of their half size (obstacle.frag: smoothstep(0.45, ...)).
+constexpr double kGroundFadeStart = 0.45;
+// The ground's grid: cells entirely inside the fade's start are drawn with the cheaper
+// opaque shader; the finer the grid, the closer they come to the fade.
+constexpr int kGroundDivisions = 16;
 
 // Scene colours are display values; lighting is done in linear light, with gamma 2
 // (the shaders convert back with a square root).
@@ -64,9 +69,10 @@ std::vector<std::string> cloth_defines(const RenderSettings& s) {
   return lit_defines(s, d);
 }
 
-std::vector<std::string> ground_defines(const RenderSettings& s, bool shadow) {
+std::vector<std::string> ground_defines(const RenderSettings& s, bool shadow, bool opaque) {
   std::vector<std::string> d = {"PLANE", "GROUND"};
   if (shadow) d.push_back("RECEIVE_SHADOW");
+  if (opaque) d.push_back("OPAQUE");
   return lit_defines(s, d);
 }
 
@@ -94,12 +100,16 @@ struct Renderer::Impl {
     cylinder.upload(unit_cylinder(64));
     square.upload(unit_square());
     if (settings.ground) {
-      ground = std::make_unique<ShaderProgram>("obstacle.vert", "obstacle.frag", shader_dirs,
-                                               ground_defines(s, false));
+      auto ground_program = [&](bool shadow, bool opaque) {
+        return std::make_unique<ShaderProgram>("obstacle.vert", "obstacle.frag", shader_dirs,
+                                               ground_defines(s, shadow, opaque));
+      };
+      ground = ground_program(false, false);
+      ground_opaque = ground_program(false, true);
       if (settings.ground->shadow) {
         shadow_map = std::make_unique<ShadowMap>(kShadowMapSize);
-        ground_shadowed = std::make_unique<ShaderProgram>(
-            "obstacle.vert", "obstacle.frag", shader_dirs, ground_defines(s, true));
+        ground_shadowed = ground_program(true, false);
+        ground_shadowed_opaque = ground_program(true, true);
       }
     }
     if (settings.camera.fixed()) {
@@ -117,7 +127,7 @@ struct Renderer::Impl {
   void draw_background(bool ground_drawn);
   void set_plane_uniforms(const ShaderProgram& program, const glm::mat4& model, const Vec3& color);
   void draw_plane(const ObstacleShape& shape, const Vec3& color);
-  void draw_ground(const ObstacleShape* merged_plane);
+  void draw_ground(const ObstacleShape* merged_plane, bool depth_needed_later);
   void draw_solids(const FrameContent& content);
   void draw_cloth();
   const ObstacleShape* plane_merged_into_ground(const FrameContent& content) const;
@@ -134,13 +144,15 @@ struct Renderer::Impl {
   ShaderProgram background, cloth, shadow;
   ShaderProgram solid;  // spheres and cylinders
   ShaderProgram plane;  // plane obstacles (blended at their fading edge)
-  std::unique_ptr<ShaderProgram> ground;           // the ground, without shadow
-  std::unique_ptr<ShaderProgram> ground_shadowed;  // the ground receiving the key light's shadow
+  // The ground without and with the key light's shadow, where it fades and where it does not.
+  std::unique_ptr<ShaderProgram> ground, ground_opaque;
+  std::unique_ptr<ShaderProgram> ground_shadowed, ground_shadowed_opaque;
   TextOverlay text;
   GlVertexArray background_vao;
   GlBuffer background_vertices;
   MeshBuffer cloth_corners_mesh, sphere, cylinder, square;
-  MeshBuffer ground_inner, ground_outer;  // the ground where shadow can fall, and the rest
+  MeshBuffer ground_fading, ground_opaque_mesh;  // parts of the ground (see SplitGround)
+  MeshBuffer ground_shadowed_fading, ground_shadowed_opaque_mesh;
   Box3 casters;  // bounds of what casts the ground shadow this frame
   std::vector<glm::vec4> ground_outline;  // clip space, this frame
   ClothBuffer cloth_mesh;
@@ -208,7 +220,11 @@ void Renderer::Impl::draw(const FrameContent& content) {
   draw_solids(content);
   timer.lap("spheres and cylinders");
   const ObstacleShape* merged = plane_merged_into_ground(content);
-  if (settings.ground) draw_ground(merged);
+  bool planes_later = false;  // plane obstacles drawn after the ground, depth-tested against it
+  for (const ObstacleShape& o : content.obstacles) {
+    if (o.kind == ObstacleShape::Kind::Plane && &o != merged) planes_later = true;
+  }
+  if (settings.ground) draw_ground(merged, planes_later);
   timer.lap("ground");
   draw_background(settings.ground.has_value());
   timer.lap("background");
@@ -348,7 +364,7 @@ const ObstacleShape* Renderer::Impl::plane_merged_into_ground(const FrameContent
   return nullptr;
 }
 
-void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane) {
+void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_needed_later) {
   // The ground's square, centred below the camera target (as obstacle_model places planes).
   const double h = settings.ground->height;
   const double half = plane_half_size();
@@ -368,12 +384,9 @@ void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane) {
     const double slant = std::max(0.05, std::abs(settings.lights[0].direction.normalized().z()));
     footprint = shadow_footprint(casters, settings.lights[0].direction, h, 3.0 * texel / slant);
   }
-  SplitGround split;
-  if (footprint) {
-    split = split_ground(square, h, *footprint);
-  } else {
-    split.outer = ground_mesh(square, h);
-  }
+  // Slightly inside the fade's start, so that rounding cannot put a faded pixel in an opaque cell.
+  const SplitGround split = split_ground(square, h, footprint, centre,
+                                         0.999 * kGroundFadeStart * half, kGroundDivisions);
 
   const glm::mat4 model(1.0f);  // the meshes are in world coordinates
   const glm::mat4 placement = obstacle_model(ground_plane(*settings.ground),
@@ -399,8 +412,18 @@ void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane) {
   };
   glEnable(GL_POLYGON_OFFSET_FILL);  // cloth resting on the ground stays in front
   glPolygonOffset(1.0f, 2.0f);
-  draw_part(*ground, ground_outer, split.outer, false);
-  if (footprint) draw_part(*ground_shadowed, ground_inner, split.inner, true);
+  // The fading cells write depth: the background, drawn next, overlaps their outer edge and
+  // must stay behind them. The opaque cells need to write it only for plane obstacles drawn
+  // later (nothing else after this tests against it): writing depth costs on every sample.
+  draw_part(*ground, ground_fading, split.fading, false);
+  if (!depth_needed_later) glDepthMask(GL_FALSE);
+  draw_part(*ground_opaque, ground_opaque_mesh, split.opaque, false);
+  if (footprint) {
+    draw_part(*ground_shadowed_opaque, ground_shadowed_opaque_mesh, split.shadowed_opaque, true);
+    glDepthMask(GL_TRUE);
+    draw_part(*ground_shadowed, ground_shadowed_fading, split.shadowed_fading, true);
+  }
+  glDepthMask(GL_TRUE);
   glDisable(GL_POLYGON_OFFSET_FILL);
 }
 

@@ -6,6 +6,7 @@
 #include "render/camera.h"
 #include "render/cloth_geometry.h"
 #include "render/font_atlas.h"
+#include "render/ground_geometry.h"
 #include "render/scene_bounds.h"
 #include "render/shader_files.h"
 #include "render/text_overlay.h"
@@ -85,6 +86,70 @@ TEST(render_geometry, AutoCameraKeepsAGivenTarget) {
   const Camera camera = auto_camera(test::flat_cloth(2, 1.0), 1.0, settings);
   EXPECT_EQ(camera.target, Vec3(0, 0, 3));
   EXPECT_TRUE(in_view(camera, 1.0, Vec3(0.5, 0.5, 0)));
+}
+
+// Area (m^2) of a part of the ground, checking each of its triangles on the way.
+template <class CellCheck>
+double ground_part_area(const IndexedMesh& part, CellCheck check) {
+  double area = 0.0;
+  for (size_t k = 0; k + 2 < part.indices.size(); k += 3) {
+    const glm::vec3 a = part.vertices[part.indices[k]].position;
+    const glm::vec3 b = part.vertices[part.indices[k + 1]].position;
+    const glm::vec3 c = part.vertices[part.indices[k + 2]].position;
+    const double twice = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    EXPECT_GT(twice, 0.0) << "counter-clockwise seen from +z";
+    for (const glm::vec3& p : {a, b, c}) {
+      EXPECT_FLOAT_EQ(p.z, -0.3f);
+      check(p);
+    }
+    area += 0.5 * twice;
+  }
+  return area;
+}
+
+TEST(render_geometry, GroundSplitsIntoShadowedAndOpaqueCellsCoveringTheSquare) {
+  const GroundRect square{glm::dvec2(-4.0, -3.0), glm::dvec2(4.0, 5.0)};
+  const GroundRect footprint{glm::dvec2(-0.7, -0.2), glm::dvec2(0.6, 0.9)};
+  const glm::dvec2 centre(0.0, 1.0);
+  const double radius = 1.8;
+  const SplitGround split = split_ground(square, -0.3, footprint, centre, radius, 16);
+  auto in_footprint = [&](const glm::vec3& p) {
+    EXPECT_GE(p.x, -0.7f - 1e-6f);
+    EXPECT_LE(p.x, 0.6f + 1e-6f);
+    EXPECT_GE(p.y, -0.2f - 1e-6f);
+    EXPECT_LE(p.y, 0.9f + 1e-6f);
+  };
+  auto in_disc = [&](const glm::vec3& p) {
+    EXPECT_LE(std::hypot(p.x - centre.x, p.y - centre.y), radius + 1e-6);
+  };
+  auto anywhere = [](const glm::vec3&) {};
+  const double shadowed_opaque = ground_part_area(split.shadowed_opaque, [&](const glm::vec3& p) {
+    in_footprint(p);
+    in_disc(p);
+  });
+  const double shadowed_fading = ground_part_area(split.shadowed_fading, in_footprint);
+  const double opaque = ground_part_area(split.opaque, in_disc);
+  const double fading = ground_part_area(split.fading, anywhere);
+  EXPECT_NEAR(shadowed_opaque + shadowed_fading, 1.3 * 1.1, 1e-5);
+  EXPECT_NEAR(shadowed_opaque + shadowed_fading + opaque + fading, 64.0, 1e-4);
+  // The footprint lies well inside the disc; most of the disc (pi 1.8^2 = 10.2 m^2, less a
+  // ragged edge a cell (0.5 m) wide at most) is opaque.
+  EXPECT_NEAR(shadowed_opaque, 1.3 * 1.1, 1e-5);
+  EXPECT_GT(shadowed_opaque + opaque, 0.6 * M_PI * radius * radius);
+}
+
+TEST(render_geometry, GroundWithoutFootprintOrDiscIsAllFading) {
+  const GroundRect square{glm::dvec2(-1.0, -1.0), glm::dvec2(1.0, 1.0)};
+  const SplitGround split = split_ground(square, -0.3, std::nullopt, glm::dvec2(0.0), 0.0, 4);
+  EXPECT_TRUE(split.opaque.indices.empty());
+  EXPECT_TRUE(split.shadowed_opaque.indices.empty());
+  EXPECT_TRUE(split.shadowed_fading.indices.empty());
+  EXPECT_NEAR(ground_part_area(split.fading, [](const glm::vec3&) {}), 4.0, 1e-6);
+  // A footprint outside the square leaves nothing to shadow either.
+  const GroundRect away{glm::dvec2(3.0, 3.0), glm::dvec2(4.0, 4.0)};
+  const SplitGround missed = split_ground(square, -0.3, away, glm::dvec2(0.0), 0.0, 4);
+  EXPECT_TRUE(missed.shadowed_fading.indices.empty());
+  EXPECT_NEAR(ground_part_area(missed.fading, [](const glm::vec3&) {}), 4.0, 1e-6);
 }
 
 TEST(render_geometry, ShaderLogNamesFileLineAndColumn) {
