@@ -28,6 +28,14 @@ const Vec3 kObstacleColor(0.60, 0.64, 0.70);
 const Vec3 kPlaneColor(0.70, 0.70, 0.66);
 // A plane obstacle this close to the ground (same side up) is drawn as part of the ground.
 constexpr double kGroundMergeDistance = 0.01;  // m
+// Spheres are drawn with kSphereSlices around (and half as many stacks), or with
+// kSmallSphereSlices when they look small enough that the flats along their outline stay
+// within kSphereOutlineError pixels of the true circle (fewer triangles: each costs on
+// llvmpipe). The shadow map always uses the finer sphere.
+constexpr int kSphereSlices = 64;
+constexpr int kSmallSphereSlices = 48;
+constexpr double kSphereOutlineError = 0.35;  // pixels
+
 // Planes fade out from this fraction of their half size (obstacle.frag: smoothstep(0.45, ...)).
 constexpr double kGroundFadeStart = 0.45;
 // The ground's grid: cells entirely inside the fade's start are drawn with the cheaper
@@ -96,7 +104,8 @@ struct Renderer::Impl {
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(glm::vec2), nullptr);
     glBindVertexArray(0);
-    sphere.upload(unit_sphere(64, 32));
+    sphere.upload(unit_sphere(kSphereSlices, kSphereSlices / 2));
+    small_sphere.upload(unit_sphere(kSmallSphereSlices, kSmallSphereSlices / 2));
     cylinder.upload(unit_cylinder(64));
     square.upload(unit_square());
     if (settings.ground) {
@@ -131,6 +140,7 @@ struct Renderer::Impl {
   void draw_solids(const FrameContent& content);
   void draw_cloth();
   const ObstacleShape* plane_merged_into_ground(const FrameContent& content) const;
+  const MeshBuffer& sphere_for_view(const ObstacleShape& shape) const;
 
   double aspect() const { return static_cast<double>(settings.width) / settings.height; }
   // Half size of the squares that stand for planes: well past the framed scene.
@@ -150,7 +160,7 @@ struct Renderer::Impl {
   TextOverlay text;
   GlVertexArray background_vao;
   GlBuffer background_vertices;
-  MeshBuffer cloth_corners_mesh, sphere, cylinder, square;
+  MeshBuffer cloth_corners_mesh, sphere, small_sphere, cylinder, square;
   MeshBuffer ground_fading, ground_opaque_mesh;  // parts of the ground (see SplitGround)
   MeshBuffer ground_shadowed_fading, ground_shadowed_opaque_mesh;
   Box3 casters;  // bounds of what casts the ground shadow this frame
@@ -444,9 +454,22 @@ void Renderer::Impl::draw_solids(const FrameContent& content) {
     const glm::mat4 model = obstacle_model(o, glm::vec3(0.0f), 0.0f);
     solid.set("u_model", model);
     solid.set("u_normal_matrix", glm::inverseTranspose(glm::mat3(model)));
-    (o.kind == ObstacleShape::Kind::Sphere ? sphere : cylinder).draw();
+    (o.kind == ObstacleShape::Kind::Sphere ? sphere_for_view(o) : cylinder).draw();
   }
   glDisable(GL_CULL_FACE);
+}
+
+// The coarser sphere when its outline, seen from the camera, would be at most
+// kSphereOutlineError pixels inside the true circle (a polygon of n sides inscribed in a
+// circle of radius R pixels falls short of it by R (1 - cos(pi / n))).
+const MeshBuffer& Renderer::Impl::sphere_for_view(const ObstacleShape& shape) const {
+  const double distance = (shape.center - camera->eye).norm();
+  if (!(distance > shape.radius)) return sphere;
+  const double half_angle = std::asin(shape.radius / distance);
+  const double tan_half_fov = std::tan(0.5 * camera->fov_deg * M_PI / 180.0);
+  const double radius_pixels = 0.5 * settings.height * std::tan(half_angle) / tan_half_fov;
+  const double shortfall = radius_pixels * (1.0 - std::cos(M_PI / kSmallSphereSlices));
+  return shortfall <= kSphereOutlineError ? small_sphere : sphere;
 }
 
 void Renderer::Impl::draw_cloth() {
