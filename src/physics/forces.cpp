@@ -49,10 +49,11 @@ void ChunkedForces::plan(const Model& model) {
   num_triangles = model.num_triangles();
   chunks.clear();
   size_t offset = 0;
-  for (int first = 0; first < num_triangles; first += kTrianglesPerChunk) {
+  const int per_chunk = chunk_triangles(num_triangles);
+  for (int first = 0; first < num_triangles; first += per_chunk) {
     Chunk c;
     c.first_triangle = first;
-    c.end_triangle = std::min(num_triangles, first + kTrianglesPerChunk);
+    c.end_triangle = std::min(num_triangles, first + per_chunk);
     c.first_vertex = num_vertices;
     c.end_vertex = 0;
     for (int k = c.first_triangle; k < c.end_triangle; ++k) {
@@ -64,6 +65,17 @@ void ChunkedForces::plan(const Model& model) {
     chunks.push_back(c);
   }
   partial.assign(offset, Vec3::Zero());
+
+  block_chunk_start.assign(1, 0);
+  block_chunks.clear();
+  for (int b = 0; b < num_blocks(); ++b) {
+    for (int c = 0; c < num_chunks(); ++c) {
+      if (chunks[c].first_vertex < block_end(b) && chunks[c].end_vertex > block_begin(b)) {
+        block_chunks.push_back(c);
+      }
+    }
+    block_chunk_start.push_back(static_cast<int>(block_chunks.size()));
+  }
 
   std::vector<std::pair<int, int>> by_first_vertex;  // (first vertex, item)
   for (int c = 0; c < num_chunks(); ++c) by_first_vertex.emplace_back(chunks[c].first_vertex, c);
@@ -126,7 +138,8 @@ void forces_stage2(const Model& model, const Vec3List& v, int block,
                    const ChunkedForces& forces, Vec3List& f) {
   const int first = forces.block_begin(block), end = forces.block_end(block);
   if (!model.bending) std::fill(f.begin() + first, f.begin() + end, Vec3::Zero());
-  for (const ChunkedForces::Chunk& c : forces.chunks) {
+  for (int k = forces.block_chunk_start[block]; k < forces.block_chunk_start[block + 1]; ++k) {
+    const ChunkedForces::Chunk& c = forces.chunks[forces.block_chunks[k]];
     const int lo = std::max(first, c.first_vertex), hi = std::min(end, c.end_vertex);
     for (int i = lo; i < hi; ++i) f[i] += forces.partial[c.offset + (i - c.first_vertex)];
   }

@@ -13,14 +13,21 @@ namespace tissu {
 
 // Forces are summed in an order fixed by the mesh alone, so they come out as the same bits
 // on any number of threads:
-//   1. triangle chunks (kTrianglesPerChunk each): each chunk sums its membrane and wind
+//   1. triangle chunks (chunk_triangles(T) each): each chunk sums its membrane and wind
 //      forces into its own buffer, which covers only the vertices its triangles touch;
 //      vertex blocks (kVerticesPerBlock each): bending, each vertex from its row of Q;
 //   2. vertex blocks: each vertex adds the chunk buffers in chunk order, gravity and air
 //      damping.
 // The items of each stage are independent; the stages run one after the other.
 struct ChunkedForces {
-  static constexpr int kTrianglesPerChunk = 256;
+  // Triangles per chunk: at least kMinChunkTriangles, and at most kMaxChunks chunks, so
+  // that the buffers of large meshes stay close to one entry per vertex (they overlap by
+  // about a row of vertices per chunk).
+  static constexpr int kMinChunkTriangles = 256;
+  static constexpr int kMaxChunks = 32;
+  static int chunk_triangles(int triangles) {
+    return std::max(kMinChunkTriangles, (triangles + kMaxChunks - 1) / kMaxChunks);
+  }
   static constexpr int kVerticesPerBlock = 128;
   struct Chunk {
     int first_triangle = 0, end_triangle = 0;
@@ -46,6 +53,9 @@ struct ChunkedForces {
   // blocks cover about the same vertices (and stage 2's blocks of the same share too).
   std::vector<int> stage1_items;
   std::vector<double> stage1_cost;  // estimated cost of each item (relative units)
+  // The chunks whose vertices overlap vertex block b, in chunk order:
+  // block_chunks[block_chunk_start[b] .. block_chunk_start[b + 1]).
+  std::vector<int> block_chunk_start, block_chunks;
   bool bending = false;  // stage1_items include the bending blocks
   const Tri* planned_triangles = nullptr;  // the triangle array planned for
 };
