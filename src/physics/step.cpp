@@ -1,5 +1,6 @@
 #include "physics/step.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -17,21 +18,30 @@ bool is_explicit(Integrator integrator) {
 }
 
 // Eq. 9 (explicit Euler), eq. 10 (modified / symplectic Euler) and the paper's
-// "calcul_vitesse_position" as printed (V += h F / (2 m), P += h V), for one vertex.
-void integrate_vertex(Integrator integrator, double h, double inv_mass, const Vec3& f, Vec3& x,
-                      Vec3& v) {
-  switch (integrator) {
+// "calcul_vitesse_position" as printed (V += h F / (2 m), P += h V), for vertices
+// [first, end).
+void integrate_vertices(const Model& model, int first, int end, const Vec3List& f, Vec3List& x,
+                        Vec3List& v) {
+  const double h = model.dt;
+  const double* inv_mass = model.inv_mass.data();
+  switch (model.integrator) {
     case Integrator::ExplicitEuler:
-      x += h * v;
-      v += (h * inv_mass) * f;
+      for (int i = first; i < end; ++i) {
+        x[i] += h * v[i];
+        v[i] += (h * inv_mass[i]) * f[i];
+      }
       break;
     case Integrator::SymplecticEuler:
-      v += (h * inv_mass) * f;
-      x += h * v;
+      for (int i = first; i < end; ++i) {
+        v[i] += (h * inv_mass[i]) * f[i];
+        x[i] += h * v[i];
+      }
       break;
     case Integrator::BenameurDjedi:
-      v += (h * inv_mass / 2.0) * f;
-      x += h * v;
+      for (int i = first; i < end; ++i) {
+        v[i] += (h * inv_mass[i] / 2.0) * f[i];
+        x[i] += h * v[i];
+      }
       break;
     default:
       break;
@@ -158,6 +168,7 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   const bool explicit_step = is_explicit(model.integrator);
   const int threads = force_threads(ws.threads, model);
 
+  if (model.position_correction) ws.x_old.resize(n);
   if (explicit_step) {
     if (model.bending) forces.origin = bending_origin(state.x);
     forces_stage1(model, state.x, state.v, state.t, threads, forces, ws.f);
@@ -168,16 +179,25 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
 
   // Per vertex block: finish the forces and integrate (explicit), correct, collide, check.
   parallel_for(threads, forces.num_blocks(), [&](int block) {
-    if (explicit_step) forces_stage2(model, state.v, block, forces, ws.f);
-    for (int i = forces.block_begin(block); i < forces.block_end(block); ++i) {
-      Vec3& x = state.x[i];
-      Vec3& v = state.v[i];
-      const Vec3 x_start = (explicit_step || !model.position_correction) ? x : ws.x_old[i];
-      if (explicit_step) integrate_vertex(model.integrator, h, model.inv_mass[i], ws.f[i], x, v);
-      if (model.position_correction) correct_position(*model.position_correction, h, x_start, x, v);
-      if (!ws.placed.empty() && !model.pinned[i]) collide_vertex(ws.placed, x, v);
-      check_vertex(i, x, v, ws.checks[block]);
+    const int first = forces.block_begin(block), end = forces.block_end(block);
+    if (explicit_step) {
+      forces_stage2(model, state.v, block, forces, ws.f);
+      if (model.position_correction) {
+        std::copy(state.x.begin() + first, state.x.begin() + end, ws.x_old.begin() + first);
+      }
+      integrate_vertices(model, first, end, ws.f, state.x, state.v);
     }
+    if (model.position_correction) {
+      for (int i = first; i < end; ++i) {
+        correct_position(*model.position_correction, h, ws.x_old[i], state.x[i], state.v[i]);
+      }
+    }
+    if (!ws.placed.empty()) {
+      for (int i = first; i < end; ++i) {
+        if (!model.pinned[i]) collide_vertex(ws.placed, state.x[i], state.v[i]);
+      }
+    }
+    for (int i = first; i < end; ++i) check_vertex(i, state.x[i], state.v[i], ws.checks[block]);
   });
 
   state.step += 1;
