@@ -20,8 +20,9 @@ const char* kRunHelp =
     "  --set KEY=VALUE    override a scene value by dotted path, e.g. --set dt=1e-4,\n"
     "                     --set cloth.material.density=0.2; VALUE is JSON if it parses\n"
     "  --obj-every N      write DIR/obj/frame_NNNNNN.obj every N steps (and final.obj)\n"
-    "  --threads N        threads for explicit steps (default: the processors available);\n"
-    "                     the results are the same bits for any N\n"
+    "  --threads N        simulation threads (default and most: the processors available;\n"
+    "                     at most one per 2000 triangles); the results are the same bits\n"
+    "                     for any N\n"
     "  --report FILE      report path (default DIR/report.json)\n"
     "  --quiet            no progress output\n"
     "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 130 interrupted.\n";

@@ -7,6 +7,7 @@
 
 #include "app/signals.h"
 #include "mesh/obj_writer.h"
+#include "physics/forces.h"
 #include "video/progress_bar.h"
 
 namespace tissu {
@@ -46,7 +47,7 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
   Workspace ws;
   ws.threads = options.threads;
   RunResult result;
-  result.threads = options.threads;
+  result.threads = force_threads(options.threads, model);
   ProgressBar progress = ProgressBar::on_stderr(options.progress_label, scene.steps);
   Vec3List last_frame_x = state.x;  // final.obj falls back to it after a divergence
 

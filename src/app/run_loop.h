@@ -49,7 +49,7 @@ struct RunResult {
   std::optional<Divergence> divergence;
   std::vector<FrameStats> frames;
   StageTimes times;
-  int threads = 1;            // threads each step could use
+  int threads = 1;            // threads the steps used (force_threads of the request)
   int newton_iterations = 0;  // totals over the run (implicit integrators)
   long long cg_iterations = 0;
 };

@@ -1,5 +1,6 @@
 // tissu run and tissu render: load and validate everything first (bad input writes
 // nothing), then simulate (and render), then always write the report.
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -59,7 +60,8 @@ int run_scene(const std::vector<std::string>& args, bool render) {
 
   RunOptions run;
   run.frame_every = steps_per_frame(scene.dt, frames_per_simulated_second(settings));
-  run.threads = options.threads > 0 ? options.threads : available_processors();
+  // More threads than processors would only make them wait for each other.
+  run.threads = std::min(options.threads > 0 ? options.threads : kMaxThreads, available_processors());
   run.progress = !options.quiet;
   run.progress_label = render ? "render" : "simulate";
 

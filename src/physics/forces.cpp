@@ -1,6 +1,8 @@
 #include "physics/forces.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 #include "physics/bending.h"
 #include "physics/membrane.h"
@@ -39,10 +41,17 @@ void add_wind(const Model& model, const Wind& wind, const Vec3List& x, const Vec
 }
 
 void ChunkedForces::plan(const Model& model) {
-  if (planned_triangles == model.triangles.data() && num_vertices == model.num_vertices() &&
-      num_triangles == model.num_triangles() && bending == (model.bending != nullptr)) {
+  if (planned_mesh == model.mesh_id && planned_triangles == model.triangles.data() &&
+      num_vertices == model.num_vertices() && num_triangles == model.num_triangles() &&
+      bending == (model.bending != nullptr)) {
     return;
   }
+  if (model.bending && model.bending->num_vertices != model.num_vertices()) {
+    throw std::invalid_argument("forces: the bending model has " +
+                                std::to_string(model.bending->num_vertices) +
+                                " vertices, the mesh " + std::to_string(model.num_vertices()));
+  }
+  planned_mesh = model.mesh_id;
   planned_triangles = model.triangles.data();
   bending = model.bending != nullptr;
   num_vertices = model.num_vertices();

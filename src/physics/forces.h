@@ -40,7 +40,8 @@ struct ChunkedForces {
   Vec3List partial;  // the chunks' buffers, back to back, N
   Vec3 origin = Vec3::Zero();  // bending's reference point for this evaluation, m
 
-  // Plans for `model` unless already planned for it (same triangle array, sizes and terms).
+  // Plans for `model` unless already planned for it (same mesh_id, triangle array, sizes
+  // and terms). Throws std::invalid_argument when the bending model does not fit the mesh.
   void plan(const Model& model);
   int num_blocks() const {
     return (num_vertices + kVerticesPerBlock - 1) / kVerticesPerBlock;
@@ -58,6 +59,7 @@ struct ChunkedForces {
   std::vector<int> block_chunk_start, block_chunks;
   bool bending = false;  // stage1_items include the bending blocks
   const Tri* planned_triangles = nullptr;  // the triangle array planned for
+  uint64_t planned_mesh = 0;               // and its Model::mesh_id
 };
 
 // Stage 1 (see ChunkedForces): the membrane and wind forces of triangle chunk `chunk` into

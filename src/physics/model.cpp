@@ -1,5 +1,6 @@
 #include "physics/model.h"
 
+#include <atomic>
 #include <cmath>
 #include <string>
 
@@ -38,6 +39,8 @@ const char* integrator_name(Integrator integrator) {
 // Eq. 1-2 of the paper: distribution factors r_u, r_v and the rest area of each triangle;
 // lumped masses rho_A * A / 3 per corner.
 void precompute_rest(Model& model) {
+  static std::atomic<uint64_t> last_mesh_id{0};
+  model.mesh_id = ++last_mesh_id;
   const int n = model.num_vertices();
   model.rest.resize(model.triangles.size());
   model.mass.assign(n, 0.0);

@@ -103,6 +103,10 @@ struct Model {
   double max_speed = 100.0;  // m/s; a faster vertex means the run diverged
   ImplicitOptions implicit;
 
+  // Set anew by every precompute_rest, so caches built from the mesh (a Workspace's force
+  // plan) know when they were made for another mesh.
+  uint64_t mesh_id = 0;
+
   int num_vertices() const { return static_cast<int>(rest_uv.size()); }
   int num_triangles() const { return static_cast<int>(triangles.size()); }
 };
@@ -114,7 +118,8 @@ struct State {
   long long step = 0;
 };
 
-// Builds the rest data (eq. 1-2), lumped masses and areas from a mesh and a material.
+// Builds the rest data (eq. 1-2), lumped masses and areas from a mesh and a material, and
+// gives the model a new mesh_id.
 // Throws InputError naming the triangle for degenerate rest triangles.
 void precompute_rest(Model& model);
 

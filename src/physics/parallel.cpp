@@ -2,11 +2,13 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -29,45 +31,60 @@ inline void cpu_relax() {
 #endif
 }
 
-// Spins until done() or kSpin has passed; returns done().
+// Spins until done() or kSpin has passed; returns done(). Yields the processor now and
+// then, so that a thread it waits for can run when there are more threads than cores.
 template <class Done>
 bool spin_until(const Done& done) {
   const auto deadline = std::chrono::steady_clock::now() + kSpin;
   for (int i = 1;; ++i) {
     if (done()) return true;
     cpu_relax();
-    if (i % 64 == 0 && std::chrono::steady_clock::now() > deadline) return done();
+    if (i % 64 == 0) {
+      if (std::chrono::steady_clock::now() > deadline) return done();
+      sched_yield();
+    }
   }
 }
 
-// Helper threads of one calling thread. run() gives share 0 to the caller and share k to
-// helper k - 1, and returns when every share is done.
+// Helper threads of one calling thread. run(shares, body) gives share 0 to the caller and
+// share k to helper k - 1, and returns when every share is done. Only the helpers that
+// take part are woken and waited for.
 class HelperPool {
  public:
   ~HelperPool() {
+    if (owner_ != getpid()) {  // a forked child: the helpers are the parent's
+      for (auto& helper : helpers_) helper->thread.detach();
+      return;
+    }
     {
       std::lock_guard<std::mutex> lock(mutex_);
       stop_ = true;
     }
-    wake_.notify_all();
-    for (std::thread& t : helpers_) t.join();
+    for (auto& helper : helpers_) helper->wake.notify_one();
+    for (auto& helper : helpers_) helper->thread.join();
   }
+
+  // False in a forked child, whose copy of the pool has no threads.
+  bool usable() const { return owner_ == getpid(); }
 
   void run(int shares, const std::function<void(int)>& share_body) {
     while (static_cast<int>(helpers_.size()) < shares - 1) {
-      // A new helper waits for the next generation, not for one already done.
-      const int index = static_cast<int>(helpers_.size());
-      const uint64_t current = generation_.load(std::memory_order_relaxed);
-      helpers_.emplace_back([this, index, current] { helper_loop(index, current); });
+      helpers_.push_back(std::make_unique<Helper>());
+      Helper* helper = helpers_.back().get();
+      const int index = static_cast<int>(helpers_.size()) - 1;
+      helper->thread = std::thread([this, helper, index] { helper_loop(*helper, index); });
     }
     body_ = &share_body;
-    shares_ = shares;
-    pending_.store(static_cast<int>(helpers_.size()), std::memory_order_relaxed);
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      generation_.fetch_add(1, std::memory_order_release);
+    pending_.store(shares - 1, std::memory_order_relaxed);
+    ++generation_;
+    for (int k = 0; k < shares - 1; ++k) {
+      Helper& helper = *helpers_[k];
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        helper.go.store(generation_, std::memory_order_release);
+      }
+      helper.wake.notify_one();
     }
-    wake_.notify_all();
     share_body(0);
     const auto all_done = [this] { return pending_.load(std::memory_order_acquire) == 0; };
     if (!spin_until(all_done)) {
@@ -77,17 +94,24 @@ class HelperPool {
   }
 
  private:
-  void helper_loop(int index, uint64_t seen) {
+  struct Helper {
+    std::atomic<uint64_t> go{0};  // the generation it was last asked to run
+    std::condition_variable wake;
+    std::thread thread;
+  };
+
+  void helper_loop(Helper& helper, int index) {
     pthread_setname_np(pthread_self(), kSimulationHelperThreadName);
+    uint64_t seen = 0;  // go starts at 0 and is only raised after this thread exists
     for (;;) {
-      const auto started = [&] { return generation_.load(std::memory_order_acquire) != seen; };
-      if (!spin_until(started)) {
+      const auto asked = [&] { return helper.go.load(std::memory_order_acquire) != seen; };
+      if (!spin_until(asked)) {
         std::unique_lock<std::mutex> lock(mutex_);
-        wake_.wait(lock, [&] { return started() || stop_; });
-        if (stop_) return;
+        helper.wake.wait(lock, [&] { return asked() || stop_; });
+        if (!asked()) return;  // stopping
       }
-      seen = generation_.load(std::memory_order_acquire);
-      if (index + 1 < shares_) (*body_)(index + 1);
+      seen = helper.go.load(std::memory_order_acquire);
+      (*body_)(index + 1);
       if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
         std::lock_guard<std::mutex> lock(mutex_);
         done_.notify_one();
@@ -95,13 +119,13 @@ class HelperPool {
     }
   }
 
-  std::vector<std::thread> helpers_;
+  const pid_t owner_ = getpid();
+  std::vector<std::unique_ptr<Helper>> helpers_;
   std::mutex mutex_;
-  std::condition_variable wake_, done_;
-  std::atomic<uint64_t> generation_{0};
+  std::condition_variable done_;
+  uint64_t generation_ = 0;  // written by the calling thread only
   std::atomic<int> pending_{0};
   const std::function<void(int)>* body_ = nullptr;
-  int shares_ = 0;
   bool stop_ = false;
 };
 
@@ -124,15 +148,21 @@ int share_begin(int k, int shares, int count, const double* cost) {
 
 void parallel_for(int threads, int count, const std::function<void(int)>& body,
                   const double* cost) {
-  if (threads <= 1 || count <= 1) {
+  // Calls from inside a share (nested) run on their thread, as do calls in a forked child.
+  thread_local bool inside_share = false;
+  thread_local HelperPool pool;
+  if (threads <= 1 || count <= 1 || inside_share || !pool.usable()) {
     for (int i = 0; i < count; ++i) body(i);
     return;
   }
   const int shares = std::min(threads, count);
-  thread_local HelperPool pool;
-  pool.run(shares, [&](int k) {
+  // noexcept: a throwing body ends the program rather than leaving helpers running on a
+  // finished call.
+  pool.run(shares, [&](int k) noexcept {
+    inside_share = true;
     const int end = share_begin(k + 1, shares, count, cost);
     for (int i = share_begin(k, shares, count, cost); i < end; ++i) body(i);
+    inside_share = false;
   });
 }
 

@@ -8,9 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -161,6 +163,7 @@ TEST(ParallelSteps, SameBitsOnAnyThreadCount) {
     State reference;
     for (int threads : {1, 2, 3}) {
       Simulation sim = busy_scene(c.integrator, c.dt);
+      ASSERT_EQ(force_threads(threads, sim.model), threads);  // the steps do use them
       Workspace ws;
       ws.threads = threads;
       for (int k = 0; k < c.steps; ++k) {
@@ -191,6 +194,56 @@ TEST(ParallelSteps, SameBitsOnAnyThreadCount) {
       }
     }
   }
+}
+
+// The divergence verdict is the serial one on any thread count: the first non-finite
+// vertex wins over an earlier vertex that is only too fast.
+TEST(ParallelSteps, DivergenceVerdictDoesNotDependOnThreads) {
+  std::optional<Divergence> verdicts[2];
+  for (int k = 0; k < 2; ++k) {
+    Simulation sim = busy_scene("symplectic_euler", 2e-5);
+    const int n = sim.model.num_vertices();
+    ASSERT_FALSE(sim.model.pinned[1]);
+    sim.state.v[1] = Vec3(300.0, 0.0, 0.0);  // too fast, in the first vertex block
+    sim.state.v[n - 2] = Vec3(std::nan(""), 0.0, 0.0);  // non-finite, in the last block
+    Workspace ws;
+    ws.threads = k == 0 ? 1 : 3;
+    verdicts[k] = step(sim.model, sim.state, ws);
+    ASSERT_TRUE(verdicts[k]);
+    int first_bad = -1;
+    for (int i = 0; i < n && first_bad < 0; ++i) {
+      if (!sim.state.x[i].allFinite() || !sim.state.v[i].allFinite()) first_bad = i;
+    }
+    EXPECT_EQ(verdicts[k]->vertex, first_bad);
+    EXPECT_GT(first_bad, 1);
+    EXPECT_NE(verdicts[k]->reason.find("non-finite"), std::string::npos) << verdicts[k]->reason;
+  }
+  EXPECT_EQ(verdicts[0]->vertex, verdicts[1]->vertex);
+  EXPECT_EQ(verdicts[0]->reason, verdicts[1]->reason);
+
+  // Only too fast (a speed limit every falling vertex exceeds): the same fastest vertex
+  // on any thread count, and it is the first of the fastest.
+  std::optional<Divergence> fastest[2];
+  for (int k = 0; k < 2; ++k) {
+    Simulation sim = busy_scene("symplectic_euler", 2e-5);
+    sim.model.max_speed = 1e-9;  // m/s
+    Workspace ws;
+    ws.threads = k == 0 ? 1 : 3;
+    fastest[k] = step(sim.model, sim.state, ws);
+    ASSERT_TRUE(fastest[k]);
+    EXPECT_EQ(fastest[k]->reason.rfind("speed ", 0), 0u) << fastest[k]->reason;
+    double top = 0.0;
+    int first = -1;
+    for (int i = 0; i < sim.model.num_vertices(); ++i) {
+      if (sim.state.v[i].squaredNorm() > top) {
+        top = sim.state.v[i].squaredNorm();
+        first = i;
+      }
+    }
+    EXPECT_EQ(fastest[k]->vertex, first);
+  }
+  EXPECT_EQ(fastest[0]->vertex, fastest[1]->vertex);
+  EXPECT_EQ(fastest[0]->reason, fastest[1]->reason);
 }
 
 }  // namespace
