@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <unistd.h>
 
 #include "core/error.h"
@@ -40,15 +41,25 @@ const char* kRenderHelp =
     "  (other options as for tissu run)\n"
     "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 130 interrupted.\n";
 
-long long parse_count(const std::string& option, const std::string& text, long long min) {
+long long parse_count(const std::string& option, const std::string& text, long long min,
+                      long long max = std::numeric_limits<long long>::max()) {
+  long long value = 0;
+  bool is_count = false;
   try {
     size_t used = 0;
-    const long long value = std::stoll(text, &used);
-    if (used == text.size() && value >= min) return value;
+    value = std::stoll(text, &used);
+    is_count = used == text.size() && value >= min;
   } catch (const std::exception&) {
   }
-  throw InputError(option + ": expected an integer >= " + std::to_string(min) + ", got \"" +
-                   text + "\"");
+  if (!is_count) {
+    throw InputError(option + ": expected an integer >= " + std::to_string(min) + ", got \"" +
+                     text + "\"");
+  }
+  if (value > max) {
+    throw InputError(option + ": expected at most " + std::to_string(max) + ", got " +
+                     std::to_string(value));
+  }
+  return value;
 }
 
 }  // namespace
@@ -88,12 +99,7 @@ bool parse_scene_command(const std::vector<std::string>& args, bool render,
         } else if (a == "--obj-every") {
           out.obj_every = static_cast<int>(parse_count("--obj-every", value(), 1));
         } else if (a == "--threads") {
-          const long long threads = parse_count("--threads", value(), 1);
-          if (threads > kMaxThreads) {
-            throw InputError("--threads: expected at most " + std::to_string(kMaxThreads) +
-                             ", got " + std::to_string(threads));
-          }
-          out.threads = static_cast<int>(threads);
+          out.threads = static_cast<int>(parse_count("--threads", value(), 1, kMaxThreads));
         } else if (a == "--report") {
           out.report_path = value();
         } else if (a == "--quiet") {

@@ -61,7 +61,8 @@ int run_scene(const std::vector<std::string>& args, bool render) {
   RunOptions run;
   run.frame_every = steps_per_frame(scene.dt, frames_per_simulated_second(settings));
   // More threads than processors would only make them wait for each other.
-  run.threads = std::min(options.threads > 0 ? options.threads : kMaxThreads, available_processors());
+  run.threads = std::min(options.threads > 0 ? options.threads : kMaxThreads,
+                         available_processors());
   run.progress = !options.quiet;
   run.progress_label = render ? "render" : "simulate";
 

@@ -11,11 +11,20 @@
 namespace tissu {
 
 void add_gravity(const Model& model, const Vec3& g, Vec3List& f) {
-  for (size_t i = 0; i < f.size(); ++i) f[i] += model.mass[i] * g;
+  add_gravity(model, g, 0, static_cast<int>(f.size()), f);
+}
+
+void add_gravity(const Model& model, const Vec3& g, int first, int end, Vec3List& f) {
+  for (int i = first; i < end; ++i) f[i] += model.mass[i] * g;
 }
 
 void add_air_damping(const Model& model, double c, const Vec3List& v, Vec3List& f) {
-  for (size_t i = 0; i < f.size(); ++i) f[i] -= (c * model.lumped_area[i]) * v[i];
+  add_air_damping(model, c, v, 0, static_cast<int>(f.size()), f);
+}
+
+void add_air_damping(const Model& model, double c, const Vec3List& v, int first, int end,
+                     Vec3List& f) {
+  for (int i = first; i < end; ++i) f[i] -= (c * model.lumped_area[i]) * v[i];
 }
 
 void add_wind(const Model& model, const Wind& wind, const Vec3List& x, const Vec3List& v,
@@ -112,6 +121,8 @@ void ChunkedForces::plan(const Model& model) {
   }
 }
 
+namespace {
+
 void forces_stage1_chunk(const Model& model, const Vec3List& x, const Vec3List& v, double t,
                          int chunk, ChunkedForces& forces) {
   const ChunkedForces::Chunk& c = forces.chunks[chunk];
@@ -131,8 +142,11 @@ void forces_stage1_bending(const Model& model, const Vec3List& x, int block,
   add_bending_forces(*model.bending, x, forces.origin, first, end, f);
 }
 
+}  // namespace
+
 void forces_stage1(const Model& model, const Vec3List& x, const Vec3List& v, double t,
                    int threads, ChunkedForces& forces, Vec3List& f) {
+  if (model.bending) forces.origin = bending_origin(x);
   parallel_for(threads, static_cast<int>(forces.stage1_items.size()), [&](int k) {
     const int item = forces.stage1_items[k];
     if (item >= 0) {
@@ -152,21 +166,14 @@ void forces_stage2(const Model& model, const Vec3List& v, int block,
     const int lo = std::max(first, c.first_vertex), hi = std::min(end, c.end_vertex);
     for (int i = lo; i < hi; ++i) f[i] += forces.partial[c.offset + (i - c.first_vertex)];
   }
-  if (model.gravity) {
-    const Vec3 g = *model.gravity;
-    for (int i = first; i < end; ++i) f[i] += model.mass[i] * g;
-  }
-  if (model.air_damping) {
-    const double c = *model.air_damping;
-    for (int i = first; i < end; ++i) f[i] -= (c * model.lumped_area[i]) * v[i];
-  }
+  if (model.gravity) add_gravity(model, *model.gravity, first, end, f);
+  if (model.air_damping) add_air_damping(model, *model.air_damping, v, first, end, f);
 }
 
 void compute_forces(const Model& model, const Vec3List& x, const Vec3List& v, double t,
                     Vec3List& f, ChunkedForces& scratch, int threads) {
   f.resize(x.size());
   scratch.plan(model);
-  if (model.bending) scratch.origin = bending_origin(x);
   forces_stage1(model, x, v, t, threads, scratch, f);
   parallel_for(threads, scratch.num_blocks(),
                [&](int block) { forces_stage2(model, v, block, scratch, f); });

@@ -62,14 +62,10 @@ struct ChunkedForces {
   uint64_t planned_mesh = 0;               // and its Model::mesh_id
 };
 
-// Stage 1 (see ChunkedForces): the membrane and wind forces of triangle chunk `chunk` into
-// its buffer; the bending forces of vertex block `block`, written to f (without bending,
-// stage 2 starts from zero instead). Call forces.plan(model) and set forces.origin first.
-void forces_stage1_chunk(const Model& model, const Vec3List& x, const Vec3List& v, double t,
-                         int chunk, ChunkedForces& forces);
-void forces_stage1_bending(const Model& model, const Vec3List& x, int block,
-                           const ChunkedForces& forces, Vec3List& f);
-// Stage 1 for every item, on at most `threads` threads.
+// Stage 1 (see ChunkedForces), on at most `threads` threads: the membrane and wind forces
+// of every triangle chunk into its buffer; the bending forces of every vertex block,
+// written to f (without bending, stage 2 starts from zero instead). Call
+// forces.plan(model) first.
 void forces_stage1(const Model& model, const Vec3List& x, const Vec3List& v, double t,
                    int threads, ChunkedForces& forces, Vec3List& f);
 // Stage 2 for vertex block `block`: f of its vertices becomes the total force.
@@ -94,9 +90,14 @@ void compute_forces(const Model& model, const Vec3List& x, const Vec3List& v, do
 
 // Gravity m g (N per vertex).
 void add_gravity(const Model& model, const Vec3& g, Vec3List& f);
+// The same for vertices [first, end).
+void add_gravity(const Model& model, const Vec3& g, int first, int end, Vec3List& f);
 
 // Viscous friction (eq. 7) per unit area: -C * lumped_area * v (N).
 void add_air_damping(const Model& model, double c, const Vec3List& v, Vec3List& f);
+// The same for vertices [first, end).
+void add_air_damping(const Model& model, double c, const Vec3List& v, int first, int end,
+                     Vec3List& f);
 
 // Wind (eq. 8, interpreted): drag * A * ((w - v_tri) . n) n per triangle, a third per vertex.
 void add_wind(const Model& model, const Wind& wind, const Vec3List& x, const Vec3List& v,

@@ -316,8 +316,9 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     }
     report.seconds_jacobian += processor_seconds_since(t0);
 
-    // Linear solve by PCG (Cholesky or block-Jacobi preconditioner). The first iteration starts from the previous
-    // step's velocity change (consecutive steps change velocities alike), later ones from 0.
+    // Linear solve by PCG (Cholesky or block-Jacobi preconditioner). The first iteration
+    // starts from the previous step's velocity change (consecutive steps change velocities
+    // alike), later ones from 0.
     if (k == 0 && s.warm_start_valid) {
       s.dv = s.warm_start;
     } else {

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <sstream>
 
-#include "physics/bending.h"
 #include "physics/implicit.h"
 #include "physics/parallel.h"
 
@@ -170,7 +169,6 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
 
   if (model.position_correction) ws.x_old.resize(n);
   if (explicit_step) {
-    if (model.bending) forces.origin = bending_origin(state.x);
     forces_stage1(model, state.x, state.v, state.t, threads, forces, ws.f);
   } else {
     if (model.position_correction) ws.x_old = state.x;

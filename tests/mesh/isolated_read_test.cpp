@@ -21,6 +21,7 @@ namespace tissu {
 namespace {
 
 using test::input_error_of;
+using test::kSquarePly;
 
 // Sets an environment variable for the life of the object.
 class ScopedEnv {
@@ -51,14 +52,6 @@ const char kStl[] =
     "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\n"
     "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\n"
     "endsolid square\n";
-
-const char kPly[] =
-    "ply\nformat ascii 1.0\n"
-    "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
-    "property float s\nproperty float t\n"
-    "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
-    "0 0 0.5 0 0\n1 0 0 2 0\n1 1 0 2 2\n0 1 0 0 2\n"
-    "3 0 1 2\n3 0 2 3\n";
 
 const char kOff[] =
     "OFF\n5 2 0\n"
@@ -105,7 +98,7 @@ class meshIsolatedRead : public testing::Test {
 
 TEST_F(meshIsolatedRead, ValidFilesGiveTheInProcessResult) {
   for (const auto& [name, text] : {std::pair<std::string, std::string>{"square.stl", kStl},
-                                   {"square.ply", kPly},
+                                   {"square.ply", kSquarePly},
                                    {"square.off", kOff},
                                    {"grid.stl", grid_stl(60)}}) {
     SCOPED_TRACE(name);
@@ -127,7 +120,7 @@ TEST_F(meshIsolatedRead, LargeResultCrossesThePipe) {
 }
 
 TEST_F(meshIsolatedRead, LoadMeshResultsAreUnchanged) {
-  const TriMesh ply = load_mesh(dir_.write("square.ply", kPly), 0.5);
+  const TriMesh ply = load_mesh(dir_.write("square.ply", kSquarePly), 0.5);
   EXPECT_TRUE(ply.uv_from_file);
   ASSERT_EQ(ply.positions.size(), 4u);
   EXPECT_EQ(ply.positions[0], Vec3(0, 0, 0.5));
@@ -156,7 +149,7 @@ TEST_F(meshIsolatedRead, ReaderErrorsAreTheInProcessErrors) {
 TEST_F(meshIsolatedRead, HangingReaderIsATimeout) {
   const ScopedEnv hook("TISSU_MESH_READ_TEST", "hang");
   const ScopedEnv limit("TISSU_MESH_READ_TIMEOUT", "0.5");
-  const std::string path = dir_.write("square.ply", kPly);
+  const std::string path = dir_.write("square.ply", kSquarePly);
   const auto start = std::chrono::steady_clock::now();
   EXPECT_EQ(input_error_of([&] { load_mesh(path, 1.0); }),
             path + ": the mesh reader did not finish within 0.5 s (malformed file?)");

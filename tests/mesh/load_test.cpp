@@ -11,6 +11,7 @@ namespace tissu {
 namespace {
 
 using test::input_error_of;
+using test::kSquarePly;
 
 class meshLoad : public testing::Test {
  protected:
@@ -134,14 +135,7 @@ TEST_F(meshLoad, OtherFormatsGoThroughAssimpAndAreWelded) {
 }
 
 TEST_F(meshLoad, AssimpFormatTextureCoordinatesAreUsed) {
-  const std::string ply =
-      "ply\nformat ascii 1.0\n"
-      "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
-      "property float s\nproperty float t\n"
-      "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
-      "0 0 0.5 0 0\n1 0 0 2 0\n1 1 0 2 2\n0 1 0 0 2\n"
-      "3 0 1 2\n3 0 2 3\n";
-  const TriMesh mesh = load_mesh(dir_.write("square.ply", ply), 0.5);
+  const TriMesh mesh = load_mesh(dir_.write("square.ply", kSquarePly), 0.5);
   EXPECT_TRUE(mesh.uv_from_file);
   ASSERT_EQ(mesh.positions.size(), 4u);
   EXPECT_EQ(mesh.positions[0], Vec3(0, 0, 0.5));

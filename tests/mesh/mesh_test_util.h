@@ -38,6 +38,16 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// A unit square as an ASCII PLY of 2 triangles with texture coordinates (s, t) = 2 (x, y)
+// and vertex 0 lifted to z = 0.5 (read by assimp).
+inline constexpr char kSquarePly[] =
+    "ply\nformat ascii 1.0\n"
+    "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+    "property float s\nproperty float t\n"
+    "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+    "0 0 0.5 0 0\n1 0 0 2 0\n1 1 0 2 2\n0 1 0 0 2\n"
+    "3 0 1 2\n3 0 2 3\n";
+
 // The message of the InputError `f` throws, or "" when it throws none.
 inline std::string input_error_of(const std::function<void()>& f) {
   try {
