@@ -701,11 +701,11 @@ void add_bending_forces(const BendingModel& model, const Vec3List& x, Vec3List& 
   check_size(model, x.size(), "x");
   check_size(model, f.size(), "f");
   if (model.num_vertices == 0) return;
-  add_bending_forces(model, x, bending_origin(x), 0, model.num_vertices, f);
+  add_bending_forces(model, x, bending_origin(x), 0, model.num_vertices, VertexForces::of(f));
 }
 
 void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
-                        int first, int end, Vec3List& f) {
+                        int first, int end, VertexForces out) {
   const auto& Q = model.stiffness;
   const int* starts = Q.outerIndexPtr();
   const int* columns = Q.innerIndexPtr();
@@ -713,18 +713,16 @@ void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3
   for (int i = first; i < end; ++i) {
     Vec3 qx = Vec3::Zero();
     for (int k = starts[i]; k < starts[i + 1]; ++k) qx += values[k] * (x[columns[k]] - origin);
-    f[i] -= qx;
+    out[i] -= qx;
   }
 }
 
-void add_bending_jacobian(const BendingModel& model, const Vec3List& x, BlockTriplets& dfdx) {
-  check_size(model, x.size(), "x");
+void add_bending_jacobian(const BendingModel& model, JacobianSink& sink) {
+  if (sink.cx == 0.0) return;
   const auto& Q = model.stiffness;
-  dfdx.entries.reserve(dfdx.entries.size() + 3 * static_cast<size_t>(Q.nonZeros()));
   for (int i = 0; i < Q.outerSize(); ++i) {
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(Q, i); it; ++it) {
-      const int j = static_cast<int>(it.col());
-      for (int c = 0; c < 3; ++c) dfdx.entries.emplace_back(3 * i + c, 3 * j + c, -it.value());
+      sink.add_identity(i, static_cast<int>(it.col()), -sink.cx * it.value());
     }
   }
 }

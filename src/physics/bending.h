@@ -32,7 +32,7 @@
 #include <vector>
 
 #include "core/types.h"
-#include "physics/block_triplets.h"
+#include "physics/force_term.h"
 
 namespace tissu {
 
@@ -94,12 +94,12 @@ Vec3 bending_origin(const Vec3List& x);
 // The bending forces of vertices [first, end) only: f_i -= sum_j Q_ij (x_j - origin).
 // Each vertex reads its own row of Q, so vertex blocks can run on separate threads.
 void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
-                        int first, int end, Vec3List& f);
+                        int first, int end, VertexForces out);
 
-// Adds df/dx (N/m) = -Q (x) I3, the exact Jacobian of the bending forces. It does not
-// depend on x (accepted for a uniform interface), is symmetric and negative semi-definite,
-// so no definiteness projection is needed for Newton / conjugate-gradient solves. Only the
-// three diagonal entries of each 3x3 vertex block are added (the others are zero).
-void add_bending_jacobian(const BendingModel& model, const Vec3List& x, BlockTriplets& dfdx);
+// Adds c_x df/dx = -c_x Q (x) I3 (N/m), the exact Jacobian of the bending forces: constant,
+// symmetric and negative semi-definite, so no definiteness projection is needed for
+// Newton / conjugate-gradient solves. Each vertex pair's block couples each coordinate
+// only with itself (JacobianSink::add_identity). No velocity dependence.
+void add_bending_jacobian(const BendingModel& model, JacobianSink& sink);
 
 }  // namespace tissu

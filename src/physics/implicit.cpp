@@ -7,12 +7,14 @@
 #include <utility>
 
 #include "physics/block_triplets.h"
+#include "physics/force_plan.h"
 #include "physics/forces.h"
 #include "physics/linear_solver.h"
+#include "physics/step_scratch.h"
 
 namespace tissu {
 
-// Scratch memory and caches of the implicit integrators, kept in Workspace::implicit so
+// Scratch memory and caches of the implicit integrators, kept in StepScratch::implicit so
 // that steps after the first allocate nothing: the Jacobian triplets (their capacity), the
 // block pattern of the system matrix and, for every triplet, the slot of the matrix value
 // it adds to.
@@ -32,19 +34,12 @@ struct ImplicitSolver {
   CgWorkspace cg;
   Eigen::VectorXd rhs, dv, shift;
   Eigen::VectorXd weights;     // (3V) 1/m per free coordinate, 0 for pinned ones, 1/kg
-  Eigen::VectorXd warm_start;  // (3V) last step's change of the unknown velocity, m/s
-  bool warm_start_valid = false;
 
   Vec3List x_base, v_base;       // (V) the step equation's affine part, m and m/s
   Vec3List v, x;                 // (V) current Newton iterate and its positions
   Vec3List v_try, x_try, f_try;  // (V) line-search trial
   Vec3List f_lin;                // (V) forces at the first linearization point, N
-  Vec3List x_saved, v_saved;     // (V) x_n, v_n (become the BDF-2 history after the step)
-
-  // BDF-2 history validity: the step number, step size and model it was recorded for.
-  long long history_step = -1;
-  double history_dt = 0.0;
-  const Model* history_model = nullptr;
+  Vec3List x_saved, v_saved;     // (V) x_n, v_n (become State::previous after the step)
 
   ImplicitReport report;
 };
@@ -75,7 +70,17 @@ inline uint64_t key_of(const Eigen::Triplet<double>& t) {
 struct StepEquation {
   double beta = 0.0;     // s
   double t_force = 0.0;  // s
+  // The unknown's change over the step is about warm_scale (v_n - v_{n-1}): 1 when the
+  // unknown is v_{n+1}, 1/2 when it is the midpoint velocity.
+  double warm_scale = 1.0;
 };
+
+// The state's history holds the step before this one (same step size).
+bool has_history(const Model& model, const State& state) {
+  const size_t n = static_cast<size_t>(model.num_vertices());
+  return state.previous.step + 1 == state.step && state.previous.dt == model.dt &&
+         state.previous.x.size() == n && state.previous.v.size() == n;
+}
 
 // Positions of the iterate v: x_base + beta v for free vertices, x_n for pinned ones.
 void positions(const Model& model, const ImplicitSolver& s, const StepEquation& eq,
@@ -249,6 +254,9 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
 void newton_solve(const Model& model, const State& state, Workspace& ws, ImplicitSolver& s,
                   const StepEquation& eq) {
   const int n = model.num_vertices();
+  StepScratch& scratch = scratch_of(ws);
+  ForcePlan& plan = scratch.forces;
+  Vec3List& f = scratch.f;
   const ImplicitOptions& opt = model.implicit;
   const int threads = force_threads(ws.threads, model);
   ImplicitReport& report = s.report;
@@ -267,8 +275,8 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   // Residual at the initial guess.
   std::clock_t t0 = std::clock();
   positions(model, s, eq, state.x, s.v, s.x);
-  compute_forces(model, s.x, s.v, eq.t_force, ws.f, ws.forces, threads);
-  double r = residual_norm(model, s, eq, s.v, ws.f);
+  compute_forces(model, s.x, s.v, eq.t_force, f, plan, threads);
+  double r = residual_norm(model, s, eq, s.v, f);
   report.seconds_residual += processor_seconds_since(t0);
   const double r0 = r;
   report.initial_residual = r0;
@@ -290,10 +298,10 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     // Linearization point and forces there.
     t0 = std::clock();
     const Vec3List* x_lin = &s.x;
-    const Vec3List* f_lin = &ws.f;
+    const Vec3List* f_lin = &f;
     if (k == 0) {
       x_lin = &state.x;
-      compute_forces(model, state.x, s.v, eq.t_force, s.f_lin, ws.forces, threads);
+      compute_forces(model, state.x, s.v, eq.t_force, s.f_lin, plan, threads);
       f_lin = &s.f_lin;
     }
     s.dfdx.clear();
@@ -319,10 +327,12 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     // Linear solve by PCG (Cholesky or block-Jacobi preconditioner). The first iteration
     // starts from the previous step's velocity change (consecutive steps change velocities
     // alike), later ones from 0.
-    if (k == 0 && s.warm_start_valid) {
-      s.dv = s.warm_start;
-    } else {
-      s.dv.setZero(3 * n);
+    s.dv.setZero(3 * n);
+    if (k == 0 && has_history(model, state)) {
+      for (int i = 0; i < n; ++i) {
+        if (model.pinned[i]) continue;
+        s.dv.segment<3>(3 * i) = eq.warm_scale * (state.v[i] - state.previous.v[i]);
+      }
     }
     const CgResult cg = linear_solve(opt, s, max_cg, report);
     report.newton_iterations += 1;
@@ -340,7 +350,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
         if (!model.pinned[i]) s.v_try[i] += alpha * s.dv.segment<3>(3 * i);
       }
       positions(model, s, eq, state.x, s.v_try, s.x_try);
-      compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try, ws.forces, threads);
+      compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try, plan, threads);
       const double r_try = residual_norm(model, s, eq, s.v_try, s.f_try);
       if (r_try <= (1.0 - kSufficientDecrease * alpha) * r) {
         accepted = alpha;
@@ -359,7 +369,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
         if (!model.pinned[i]) s.v_try[i] += best_alpha * s.dv.segment<3>(3 * i);
       }
       positions(model, s, eq, state.x, s.v_try, s.x_try);
-      compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try, ws.forces, threads);
+      compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try, plan, threads);
       r = residual_norm(model, s, eq, s.v_try, s.f_try);
     }
     report.seconds_residual += processor_seconds_since(t0);
@@ -374,41 +384,35 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     }
     std::swap(s.v, s.v_try);
     std::swap(s.x, s.x_try);
-    std::swap(ws.f, s.f_try);
+    std::swap(f, s.f_try);
     report.converged = (r <= target);
   }
   report.final_residual = r;
-  s.warm_start.resize(3 * n);
-  for (int i = 0; i < n; ++i) s.warm_start.segment<3>(3 * i) = s.v[i] - state.v[i];
   ws.newton_iterations = report.newton_iterations;
   ws.cg_iterations = report.cg_iterations;
 }
 
 ImplicitSolver& solver_of(Workspace& ws) {
-  if (!ws.implicit) ws.implicit = std::make_shared<ImplicitSolver>();
-  return *ws.implicit;
+  StepScratch& scratch = scratch_of(ws);
+  if (!scratch.implicit) scratch.implicit = std::make_shared<ImplicitSolver>();
+  return *scratch.implicit;
 }
 
-// Saves x_n, v_n before the step; afterwards they become the BDF-2 history.
+// Saves x_n, v_n before the step; afterwards they become State::previous.
 void begin_step(const Model& model, const State& state, Workspace& ws, ImplicitSolver& s) {
   const size_t n = static_cast<size_t>(model.num_vertices());
-  ws.f.resize(n);
+  scratch_of(ws).f.resize(n);
   s.f_lin.resize(n);
   s.f_try.resize(n);
   s.x_saved = state.x;
   s.v_saved = state.v;
-  s.warm_start_valid = s.history_model == &model && s.history_step + 1 == state.step &&
-                       s.history_dt == model.dt &&
-                       s.warm_start.size() == 3 * static_cast<Eigen::Index>(n);
 }
 
-void end_step(const Model& model, const State& state, Workspace& ws, ImplicitSolver& s) {
-  std::swap(ws.x_prev, s.x_saved);
-  std::swap(ws.v_prev, s.v_saved);
-  ws.has_prev = true;
-  s.history_step = state.step;
-  s.history_dt = model.dt;
-  s.history_model = &model;
+void end_step(const Model& model, State& state, ImplicitSolver& s) {
+  std::swap(state.previous.x, s.x_saved);
+  std::swap(state.previous.v, s.v_saved);
+  state.previous.step = state.step;
+  state.previous.dt = model.dt;
 }
 
 // Backward Euler in velocity form: x_base = x_n, v_base = v_n, beta = h.
@@ -432,7 +436,7 @@ const ImplicitReport& backward_euler(const Model& model, State& state, Workspace
   ImplicitSolver& s = solver_of(ws);
   begin_step(model, state, ws, s);
   backward_euler_stage(model, state, ws, s);
-  end_step(model, state, ws, s);
+  end_step(model, state, s);
   return s.report;
 }
 
@@ -443,10 +447,8 @@ const ImplicitReport& backward_euler(const Model& model, State& state, Workspace
 const ImplicitReport& bdf2(const Model& model, State& state, Workspace& ws) {
   ImplicitSolver& s = solver_of(ws);
   const int n = model.num_vertices();
-  const bool history = ws.has_prev && s.history_model == &model && s.history_dt == model.dt &&
-                       s.history_step + 1 == state.step &&
-                       ws.x_prev.size() == static_cast<size_t>(n) &&
-                       ws.v_prev.size() == static_cast<size_t>(n);
+  const StepHistory& previous = state.previous;
+  const bool history = has_history(model, state);
   begin_step(model, state, ws, s);
   if (!history) {
     backward_euler_stage(model, state, ws, s);
@@ -455,8 +457,8 @@ const ImplicitReport& bdf2(const Model& model, State& state, Workspace& ws) {
     s.x_base.resize(n);
     s.v_base.resize(n);
     for (int i = 0; i < n; ++i) {
-      s.x_base[i] = (4.0 / 3.0) * state.x[i] - (1.0 / 3.0) * ws.x_prev[i];
-      s.v_base[i] = (4.0 / 3.0) * state.v[i] - (1.0 / 3.0) * ws.v_prev[i];
+      s.x_base[i] = (4.0 / 3.0) * state.x[i] - (1.0 / 3.0) * previous.x[i];
+      s.v_base[i] = (4.0 / 3.0) * state.v[i] - (1.0 / 3.0) * previous.v[i];
     }
     s.v = state.v;
     newton_solve(model, state, ws, s, StepEquation{2.0 * h / 3.0, state.t + h});
@@ -466,7 +468,7 @@ const ImplicitReport& bdf2(const Model& model, State& state, Workspace& ws) {
       state.x[i] = s.x[i];
     }
   }
-  end_step(model, state, ws, s);
+  end_step(model, state, s);
   return s.report;
 }
 
@@ -480,18 +482,18 @@ const ImplicitReport& implicit_midpoint(const Model& model, State& state, Worksp
   s.x_base = state.x;
   s.v_base = state.v;
   s.v = state.v;
-  newton_solve(model, state, ws, s, StepEquation{0.5 * h, state.t + 0.5 * h});
+  newton_solve(model, state, ws, s, StepEquation{0.5 * h, state.t + 0.5 * h, 0.5});
   for (int i = 0; i < model.num_vertices(); ++i) {
     if (model.pinned[i]) continue;
     state.x[i] += h * s.v[i];
     state.v[i] = 2.0 * s.v[i] - state.v[i];
   }
-  end_step(model, state, ws, s);
+  end_step(model, state, s);
   return s.report;
 }
 
 const ImplicitReport* last_implicit_report(const Workspace& ws) {
-  return ws.implicit ? &ws.implicit->report : nullptr;
+  return ws.scratch && ws.scratch->implicit ? &ws.scratch->implicit->report : nullptr;
 }
 
 void integrate_implicit(const Model& model, State& state, Workspace& ws) {

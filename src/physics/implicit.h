@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "physics/model.h"
-#include "physics/step.h"
+#include "physics/workspace.h"
 
 namespace tissu {
 

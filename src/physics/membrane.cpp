@@ -96,17 +96,13 @@ void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], V
   for (int j = 0; j < 3; ++j) f[j] = corner_force(rest, g, s, j);
 }
 
-void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, Vec3List& f) {
-  if (f.empty()) return;
-  add_membrane_forces(model, x, v, 0, model.num_triangles(), 0, f[0].data());
-}
-
 void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, int first,
-                         int end, int vertex_offset, double* out) {
+                         int end, VertexForces out) {
+  double* base = out.data[0].data();
   if (model.material.damping > 0.0 && v != nullptr) {
-    accumulate_forces<true>(model, x, v, first, end, vertex_offset, out);
+    accumulate_forces<true>(model, x, v, first, end, out.first_vertex, base);
   } else {
-    accumulate_forces<false>(model, x, nullptr, first, end, vertex_offset, out);
+    accumulate_forces<false>(model, x, nullptr, first, end, out.first_vertex, base);
   }
 }
 
@@ -136,12 +132,15 @@ double max_principal_strain(const Model& model, const Vec3List& x) {
 // Hessian of W = A/2 e^T E e: H_ij = A [ sum_ab E_ab de_a/dx_i de_b/dx_j^T
 //                                        + (R S R^T)_ij I ],  R = [r_u r_v], S = 2x2 stress.
 // The force Jacobian is -H. Damping: df/dv = -tau A sum_ab E_ab de_a/dx_i de_b/dx_j^T.
-void add_membrane_jacobian(const Model& model, const Vec3List& x, bool project_psd,
-                           BlockTriplets& dfdx, BlockTriplets* dfdv, const Vec3List* v) {
+void add_membrane_jacobian(const Model& model, const Vec3List& x, const Vec3List* v,
+                           bool project_psd, int first, int end, JacobianSink& sink) {
   const Mat3 E = model.material.stiffness();
   const double tau = model.material.damping;
   const bool viscous = tau > 0.0 && v != nullptr;
-  for (size_t t = 0; t < model.triangles.size(); ++t) {
+  const double cx = sink.cx, cv = tau > 0.0 ? sink.cv : 0.0;
+  if (cx == 0.0 && cv == 0.0) return;
+  Mat3 blocks[9];
+  for (int t = first; t < end; ++t) {
     const Tri& tri = model.triangles[t];
     const TriangleRest& r = model.rest[t];
     const Gradients g = deformation(r, x[tri[0]], x[tri[1]], x[tri[2]]);
@@ -168,26 +167,28 @@ void add_membrane_jacobian(const Model& model, const Vec3List& x, bool project_p
       J[j].col(1) = r.rv[j] * g.V;
       J[j].col(2) = r.ru[j] * g.V + r.rv[j] * g.U;
     }
+    // Force Jacobian blocks: df/dx = -A (material + geometric I [+ viscous]),
+    // df/dv = -A tau material.
+    const double material_weight = -r.area * (cx + cv * tau);
     for (int i = 0; i < 3; ++i) {
       const Eigen::Matrix3d JiE = J[i] * E;
       for (int j = 0; j < 3; ++j) {
-        const Mat3 material = JiE * J[j].transpose();
+        Mat3& block = blocks[3 * i + j];
+        block = material_weight * (JiE * J[j].transpose());
         const double geometric = r.ru[i] * r.ru[j] * S(0, 0) + r.rv[i] * r.rv[j] * S(1, 1) +
                                  (r.ru[i] * r.rv[j] + r.rv[i] * r.ru[j]) * S(0, 1);
-        Mat3 block = material;
-        block.diagonal().array() += geometric;
-        if (viscous && !project_psd) {
+        block.diagonal().array() -= cx * r.area * geometric;
+        if (viscous && !project_psd && cx != 0.0) {
           // d(strain rate)/dx_j has the columns of J[j] with (U, V) -> (dU/dt, dV/dt).
           Eigen::Matrix3d Jd;
           Jd.col(0) = r.ru[j] * gd.U;
           Jd.col(1) = r.rv[j] * gd.V;
           Jd.col(2) = r.ru[j] * gd.V + r.rv[j] * gd.U;
-          block += tau * (JiE * Jd.transpose());
+          block -= (cx * r.area * tau) * (JiE * Jd.transpose());
         }
-        dfdx.add(tri[i], tri[j], -r.area * block);
-        if (dfdv != nullptr && tau > 0.0) dfdv->add(tri[i], tri[j], -r.area * tau * material);
       }
     }
+    sink.add_triangle(t, tri, blocks);
   }
 }
 

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "core/types.h"
-#include "physics/block_triplets.h"
+#include "physics/force_term.h"
 #include "physics/model.h"
 
 namespace tissu {
@@ -21,13 +21,10 @@ double triangle_energy(const TriangleRest& rest, const Mat3& E, const Vec3& a, c
 // Forces on the three corners of one triangle (eq. 6), N.
 void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], Vec3 f[3]);
 
-// Adds membrane forces (and damping forces when the material has damping and `v` is given).
-void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, Vec3List& f);
-
-// The same for triangles [first, end) only, added to out[3 * (vertex - vertex_offset) + k]:
-// a chunk of triangles summing into a buffer that covers only the vertices it touches.
+// Adds the membrane forces of triangles [first, end) (and their strain-rate damping forces
+// when the material has damping and `v` is given).
 void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, int first,
-                         int end, int vertex_offset, double* out);
+                         int end, VertexForces out);
 
 // Total membrane energy, J.
 double membrane_energy(const Model& model, const Vec3List& x);
@@ -35,14 +32,13 @@ double membrane_energy(const Model& model, const Vec3List& x);
 // Largest principal Green strain over all triangles (dimensionless).
 double max_principal_strain(const Model& model, const Vec3List& x);
 
-// Adds df/dx (N/m) of the membrane force, and df/dv (N*s/m) of its damping when `dfdv` is
-// given. With `project_psd` the stress (geometric) term uses the nearest positive
+// Adds the Jacobian of triangles [first, end): c_x df/dx (N/m) and c_v df/dv (N*s/m, the
+// damping's). With `project_psd` the stress (geometric) term uses the nearest positive
 // semi-definite 2x2 stress, so -df/dx is positive semi-definite (for Newton/CG solves).
 // With damping and velocities `v`, df/dx also carries the damping force's dependence on x:
 // the viscous stress joins the stress term, and without `project_psd` the (non-symmetric)
 // term -tau A J_i E dJ_j^T/dt is added too (dropped when projecting).
-void add_membrane_jacobian(const Model& model, const Vec3List& x, bool project_psd,
-                           BlockTriplets& dfdx, BlockTriplets* dfdv,
-                           const Vec3List* v = nullptr);
+void add_membrane_jacobian(const Model& model, const Vec3List& x, const Vec3List* v,
+                           bool project_psd, int first, int end, JacobianSink& sink);
 
 }  // namespace tissu

@@ -111,11 +111,21 @@ struct Model {
   int num_triangles() const { return static_cast<int>(triangles.size()); }
 };
 
+// The state one step back, recorded by the implicit integrators: BDF-2, a two-step
+// method, builds on it. Part of the state, so a state saved and restored carries it.
+struct StepHistory {
+  Vec3List x;           // (V) positions at step `step`, m
+  Vec3List v;           // (V) velocities at step `step`, m/s
+  long long step = -1;  // the step they belong to; -1: none recorded
+  double dt = 0.0;      // the step size taken from them, s
+};
+
 struct State {
   Vec3List x;  // (V) positions, m
   Vec3List v;  // (V) velocities, m/s
   double t = 0.0;  // s
   long long step = 0;
+  StepHistory previous;  // empty unless an implicit integrator stepped
 };
 
 // Builds the rest data (eq. 1-2), lumped masses and areas from a mesh and a material, and

@@ -4,8 +4,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "physics/force_plan.h"
+#include "physics/forces.h"
 #include "physics/implicit.h"
 #include "physics/parallel.h"
+#include "physics/step_scratch.h"
 
 namespace tissu {
 
@@ -159,19 +162,20 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   const int n = model.num_vertices();
   const double h = model.dt;
   const double t_new = static_cast<double>(state.step + 1) * h;
-  ChunkedForces& forces = ws.forces;
+  StepScratch& scratch = scratch_of(ws);
+  ForcePlan& forces = scratch.forces;
   forces.plan(model);
-  ws.f.resize(n);
-  ws.checks.assign(forces.num_blocks(), BlockCheck{});
-  place_obstacles(model, t_new, ws.placed);
+  scratch.f.resize(n);
+  scratch.checks.assign(forces.num_blocks(), BlockCheck{});
+  place_obstacles(model, t_new, scratch.placed);
   const bool explicit_step = is_explicit(model.integrator);
   const int threads = force_threads(ws.threads, model);
 
-  if (model.position_correction) ws.x_old.resize(n);
+  if (model.position_correction) scratch.x_old.resize(n);
   if (explicit_step) {
-    forces_stage1(model, state.x, state.v, state.t, threads, forces, ws.f);
+    forces_stage1(model, state.x, state.v, state.t, threads, forces, scratch.f);
   } else {
-    if (model.position_correction) ws.x_old = state.x;
+    if (model.position_correction) scratch.x_old = state.x;
     integrate_implicit(model, state, ws);
   }
 
@@ -179,28 +183,31 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   parallel_for(threads, forces.num_blocks(), [&](int block) {
     const int first = forces.block_begin(block), end = forces.block_end(block);
     if (explicit_step) {
-      forces_stage2(model, state.v, block, forces, ws.f);
+      forces_stage2(model, state.v, block, forces, scratch.f);
       if (model.position_correction) {
-        std::copy(state.x.begin() + first, state.x.begin() + end, ws.x_old.begin() + first);
+        std::copy(state.x.begin() + first, state.x.begin() + end, scratch.x_old.begin() + first);
       }
-      integrate_vertices(model, first, end, ws.f, state.x, state.v);
+      integrate_vertices(model, first, end, scratch.f, state.x, state.v);
     }
     if (model.position_correction) {
       for (int i = first; i < end; ++i) {
-        correct_position(*model.position_correction, h, ws.x_old[i], state.x[i], state.v[i]);
+        correct_position(*model.position_correction, h, scratch.x_old[i], state.x[i],
+                         state.v[i]);
       }
     }
-    if (!ws.placed.empty()) {
+    if (!scratch.placed.empty()) {
       for (int i = first; i < end; ++i) {
-        if (!model.pinned[i]) collide_vertex(ws.placed, state.x[i], state.v[i]);
+        if (!model.pinned[i]) collide_vertex(scratch.placed, state.x[i], state.v[i]);
       }
     }
-    for (int i = first; i < end; ++i) check_vertex(i, state.x[i], state.v[i], ws.checks[block]);
+    for (int i = first; i < end; ++i) {
+      check_vertex(i, state.x[i], state.v[i], scratch.checks[block]);
+    }
   });
 
   state.step += 1;
   state.t = t_new;
-  return divergence_of(model, state, ws.checks);
+  return divergence_of(model, state, scratch.checks);
 }
 
 }  // namespace tissu

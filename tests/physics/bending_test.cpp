@@ -12,6 +12,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "physics/block_triplets.h"
 
 namespace tissu {
 namespace {
@@ -213,10 +214,9 @@ Eigen::VectorXd flatten(const Vec3List& v) {
 
 Eigen::MatrixXd dense_jacobian(const BendingModel& m, const Vec3List& x) {
   BlockTriplets t;
-  add_bending_jacobian(m, x, t);
-  Eigen::SparseMatrix<double> J(3 * x.size(), 3 * x.size());
-  J.setFromTriplets(t.entries.begin(), t.entries.end());
-  return Eigen::MatrixXd(J);
+  TripletSink sink(1.0, 0.0, t);
+  add_bending_jacobian(m, sink);
+  return Eigen::MatrixXd(t.to_sparse(static_cast<int>(x.size())));
 }
 
 double relative_energy_error(const BendingModel& m, const Sheet& s, double B, double k,

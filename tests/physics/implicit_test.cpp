@@ -438,6 +438,35 @@ TEST(FreeFall, Bdf2MatchesExactDiscreteFormula) {
   }
 }
 
+// BDF-2's history travels with the state: a run resumed from a saved state with a fresh
+// workspace goes on as the original does (to the solver's tolerance), while a state
+// without its history restarts with a backward Euler step and leaves the original's path.
+TEST(History, Bdf2ResumesFromASavedStateWithAFreshWorkspace) {
+  Hanging s = hanging_sheet(*material_preset("cotton"), 0.3, 0.3, 6, 6, /*vertical=*/false,
+                            Integrator::Bdf2, 1.0 / 100.0);
+  s.model.implicit.max_newton_iterations = 30;
+  s.model.implicit.newton_tolerance = 1e-12;
+  s.model.implicit.cg_tolerance = 1e-12;
+  Workspace original;
+  for (int k = 0; k < 10; ++k) ASSERT_FALSE(step(s.model, s.state, original).has_value());
+  ASSERT_EQ(s.state.previous.step + 1, s.state.step);
+  State resumed = s.state, restarted = s.state;
+  restarted.previous = StepHistory{};
+  Workspace fresh, fresh_too;
+  for (int k = 0; k < 5; ++k) {
+    ASSERT_FALSE(step(s.model, s.state, original).has_value());
+    ASSERT_FALSE(step(s.model, resumed, fresh).has_value());
+    ASSERT_FALSE(step(s.model, restarted, fresh_too).has_value());
+  }
+  double resumed_gap = 0.0, restarted_gap = 0.0;  // m
+  for (size_t i = 0; i < s.state.x.size(); ++i) {
+    resumed_gap = std::max(resumed_gap, (resumed.x[i] - s.state.x[i]).norm());
+    restarted_gap = std::max(restarted_gap, (restarted.x[i] - s.state.x[i]).norm());
+  }
+  EXPECT_LT(resumed_gap, 1e-9);
+  EXPECT_GT(restarted_gap, 1e3 * resumed_gap);
+}
+
 // Implicit midpoint integrates constant acceleration exactly: z = -g (n h)^2 / 2.
 TEST(FreeFall, ImplicitMidpointIsExact) {
   const int n = 40;

@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <random>
 
+#include "physics/block_triplets.h"
 #include "test_meshes.h"
 
 namespace tissu {
@@ -99,7 +100,7 @@ TEST(Membrane, RigidMotionGivesZeroForceAndEnergy) {
   const Mat3 R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
   for (Vec3& p : x) p = R * p + Vec3(0.4, -1.0, 2.0);
   Vec3List f(x.size(), Vec3::Zero());
-  add_membrane_forces(m, x, nullptr, f);
+  add_membrane_forces(m, x, nullptr, 0, m.num_triangles(), VertexForces::of(f));
   for (const Vec3& fi : f) EXPECT_LT(fi.norm(), 1e-10);
   EXPECT_LT(membrane_energy(m, x), 1e-20);
 }
@@ -126,7 +127,7 @@ TEST(Membrane, UniaxialStretchMatchesClosedForm) {
       x[i] = Vec3(s * m.rest_uv[i].x(), lambda * m.rest_uv[i].y(), 0.0);
     }
     Vec3List f(x.size(), Vec3::Zero());
-    add_membrane_forces(m, x, nullptr, f);
+    add_membrane_forces(m, x, nullptr, 0, m.num_triangles(), VertexForces::of(f));
     double end_force = 0.0;
     for (size_t i = 0; i < x.size(); ++i) {
       if (m.rest_uv[i].x() > L / 2 - 1e-12) {
@@ -141,15 +142,20 @@ TEST(Membrane, UniaxialStretchMatchesClosedForm) {
 }
 
 // Assembles the dense Jacobian of the membrane force for finite-difference checks.
-Eigen::MatrixXd dense(const BlockTriplets& t, int n) {
-  Eigen::SparseMatrix<double> s(3 * n, 3 * n);
-  s.setFromTriplets(t.entries.begin(), t.entries.end());
-  return Eigen::MatrixXd(s);
+Eigen::MatrixXd dense(const BlockTriplets& t, int n) { return Eigen::MatrixXd(t.to_sparse(n)); }
+
+// The membrane Jacobian c_x df/dx + c_v df/dv of the whole mesh as triplets.
+BlockTriplets membrane_jacobian(const Model& m, const Vec3List& x, bool project_psd, double cx,
+                                double cv) {
+  BlockTriplets out;
+  TripletSink sink(cx, cv, out);
+  add_membrane_jacobian(m, x, nullptr, project_psd, 0, m.num_triangles(), sink);
+  return out;
 }
 
 Eigen::VectorXd forces_of(const Model& m, const Vec3List& x, const Vec3List* v) {
   Vec3List f(x.size(), Vec3::Zero());
-  add_membrane_forces(m, x, v, f);
+  add_membrane_forces(m, x, v, 0, m.num_triangles(), VertexForces::of(f));
   Eigen::VectorXd out(3 * x.size());
   for (size_t i = 0; i < x.size(); ++i) out.segment<3>(3 * i) = f[i];
   return out;
@@ -164,8 +170,7 @@ TEST(Membrane, JacobianMatchesFiniteDifferencesOfForces) {
   std::uniform_real_distribution<double> noise(-0.01, 0.01);
   for (Vec3& p : x) p = Vec3(1.05 * p.x(), 0.97 * p.y(), 0.0) + Vec3(noise(rng), noise(rng), noise(rng));
   const int n = static_cast<int>(x.size());
-  BlockTriplets dfdx;
-  add_membrane_jacobian(m, x, /*project_psd=*/false, dfdx, nullptr);
+  const BlockTriplets dfdx = membrane_jacobian(m, x, /*project_psd=*/false, 1.0, 0.0);
   const Eigen::MatrixXd K = dense(dfdx, n);
   double previous = INFINITY;
   for (double h : {1e-5, 1e-6}) {
@@ -193,9 +198,8 @@ TEST(Membrane, ProjectedJacobianIsNegativeSemiDefiniteUnderCompression) {
   std::uniform_real_distribution<double> noise(-0.01, 0.01);
   for (Vec3& p : x) p = 0.8 * p + Vec3(noise(rng), noise(rng), noise(rng));  // compressed
   const int n = static_cast<int>(x.size());
-  BlockTriplets exact, projected;
-  add_membrane_jacobian(m, x, false, exact, nullptr);
-  add_membrane_jacobian(m, x, true, projected, nullptr);
+  const BlockTriplets exact = membrane_jacobian(m, x, false, 1.0, 0.0);
+  const BlockTriplets projected = membrane_jacobian(m, x, true, 1.0, 0.0);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> e_exact(dense(exact, n));
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> e_proj(dense(projected, n));
   // Compression makes the exact -df/dx indefinite; the projected one is not.
@@ -219,8 +223,7 @@ TEST(Membrane, DampingForceAndVelocityJacobian) {
   EXPECT_LT((forces_of(m, x, &drift) - forces_of(m, x, nullptr)).norm(), 1e-12);
   // df/dv against finite differences (the damping force is linear in v).
   const int n = static_cast<int>(x.size());
-  BlockTriplets dfdx, dfdv;
-  add_membrane_jacobian(m, x, false, dfdx, &dfdv);
+  const BlockTriplets dfdv = membrane_jacobian(m, x, false, 0.0, 1.0);
   const Eigen::MatrixXd D = dense(dfdv, n);
   Eigen::MatrixXd D_fd(3 * n, 3 * n);
   for (int c = 0; c < 3 * n; ++c) {

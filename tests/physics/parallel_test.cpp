@@ -1,6 +1,6 @@
 // Parallel explicit steps: parallel_for hands out every item once in contiguous shares,
 // and forces and whole steps are the same bits on any number of threads (the summation
-// order depends on the mesh only; see ChunkedForces in physics/forces.h).
+// order depends on the mesh only; see ForcePlan in physics/force_plan.h).
 #include "physics/parallel.h"
 
 #include <gtest/gtest.h>
@@ -16,9 +16,13 @@
 #include <thread>
 #include <vector>
 
+#include "physics/air_damping.h"
 #include "physics/bending.h"
+#include "physics/force_plan.h"
 #include "physics/forces.h"
+#include "physics/gravity.h"
 #include "physics/membrane.h"
+#include "physics/wind.h"
 #include "physics/step.h"
 #include "scene/scene.h"
 
@@ -111,7 +115,7 @@ TEST(ParallelForces, SameBitsOnAnyThreadCountAndEqualToTheTermsSummed) {
   Simulation sim = busy_scene("symplectic_euler", 4e-5);
   const Model& m = sim.model;
   ASSERT_TRUE(m.bending && m.wind && m.gravity && m.air_damping);
-  ChunkedForces plan;
+  ForcePlan plan;
   plan.plan(m);
   ASSERT_GE(plan.num_chunks(), 5);
   ASSERT_GE(plan.num_blocks(), 5);
@@ -126,7 +130,7 @@ TEST(ParallelForces, SameBitsOnAnyThreadCountAndEqualToTheTermsSummed) {
   Vec3List reference;
   for (int threads : {1, 2, 3, 7}) {
     Vec3List f;
-    ChunkedForces scratch;
+    ForcePlan scratch;
     compute_forces(m, x, v, t, f, scratch, threads);
     if (threads == 1) {
       reference = f;
@@ -136,11 +140,13 @@ TEST(ParallelForces, SameBitsOnAnyThreadCountAndEqualToTheTermsSummed) {
   }
   // The terms one by one, summed in another order: equal up to round-off.
   Vec3List terms(x.size(), Vec3::Zero());
-  add_membrane_forces(m, x, &v, terms);
-  add_bending_forces(*m.bending, x, terms);
-  add_gravity(m, *m.gravity, terms);
-  add_air_damping(m, *m.air_damping, v, terms);
-  add_wind(m, *m.wind, x, v, t, terms);
+  const VertexForces out = VertexForces::of(terms);
+  const int nv = m.num_vertices(), nt = m.num_triangles();
+  add_membrane_forces(m, x, &v, 0, nt, out);
+  add_bending_forces(*m.bending, x, bending_origin(x), 0, nv, out);
+  add_gravity(m, *m.gravity, 0, nv, out);
+  add_air_damping(m, *m.air_damping, v, 0, nv, out);
+  add_wind(m, *m.wind, x, v, t, 0, nt, out);
   double largest = 0.0, worst = 0.0;
   for (size_t i = 0; i < x.size(); ++i) {
     largest = std::max(largest, terms[i].norm());

@@ -1,0 +1,46 @@
+// Scratch memory of the step behind Workspace::scratch (internal to the physics library).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "core/types.h"
+#include "physics/force_plan.h"
+#include "physics/obstacle.h"
+#include "physics/workspace.h"
+
+namespace tissu {
+
+struct ImplicitSolver;  // physics/implicit.cpp: Newton/PCG caches of the implicit steps
+
+// An obstacle placed at one time: its centre (or plane point) and rigid velocity.
+struct PlacedObstacle {
+  const Obstacle* obstacle = nullptr;
+  Vec3 center = Vec3::Zero();    // m
+  Vec3 velocity = Vec3::Zero();  // m/s
+};
+
+// What the divergence check found in one vertex block.
+struct BlockCheck {
+  int first_bad = -1;           // first vertex with a non-finite position or velocity
+  bool bad_position = false;    // that vertex's position (not only its velocity) is bad
+  int fastest = -1;             // first vertex with the largest speed
+  double top_speed2 = 0.0;      // its squared speed, m^2/s^2
+};
+
+struct StepScratch {
+  ForcePlan forces;                     // force summation order and buffers
+  Vec3List f;                           // (V) forces, N
+  Vec3List x_old;                       // (V) positions at the start of the step, m
+  std::vector<PlacedObstacle> placed;   // obstacles at the end of the step
+  std::vector<BlockCheck> checks;       // (vertex blocks) divergence check
+  std::shared_ptr<ImplicitSolver> implicit;  // created by the first implicit step
+};
+
+// The workspace's scratch, created on first use.
+inline StepScratch& scratch_of(Workspace& ws) {
+  if (!ws.scratch) ws.scratch = std::make_shared<StepScratch>();
+  return *ws.scratch;
+}
+
+}  // namespace tissu

@@ -1,0 +1,22 @@
+// What a caller keeps between steps: the thread count, the caches of the step (nothing is
+// allocated after the first step) and what the last step measured.
+#pragma once
+
+#include <memory>
+
+namespace tissu {
+
+struct StepScratch;  // physics/step_scratch.h: force plan, buffers, implicit solver
+
+// A Workspace serves one Model: its caches are planned from the model it first steps.
+// Copies share the caches: do not step copies concurrently.
+struct Workspace {
+  // Threads a step may use (the calling thread included). Results do not depend on it.
+  int threads = 1;
+  // Implicit solver statistics of the last step.
+  int newton_iterations = 0;
+  int cg_iterations = 0;
+  std::shared_ptr<StepScratch> scratch;  // created by the first step
+};
+
+}  // namespace tissu
