@@ -3,6 +3,7 @@
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
+#include <libavutil/cpu.h>
 #include <libavutil/error.h>
 #include <libavutil/imgutils.h>
 #include <libavutil/log.h>
@@ -118,8 +119,13 @@ void Mp4Writer::State::open_encoder(FrameRate fps, const Mp4Options& options) {
   if (format->oformat->flags & AVFMT_GLOBALHEADER) codec->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
 
   AVDictionary* settings = nullptr;
+  // x264's AVX-512 routines read memory they never wrote: with them the same frames gave
+  // different bytes from run to run (seen with glibc's M_PERTURB). Every processor with
+  // AVX-512 has AVX2, so x264 is limited to AVX2 there.
+  const bool avx512 = av_get_cpu_flags() & AV_CPU_FLAG_AVX512;
   if (av_dict_set(&settings, "preset", options.preset.c_str(), 0) < 0 ||
-      av_dict_set(&settings, "crf", std::to_string(options.crf).c_str(), 0) < 0) {
+      av_dict_set(&settings, "crf", std::to_string(options.crf).c_str(), 0) < 0 ||
+      (avx512 && av_dict_set(&settings, "x264-params", "asm=AVX2", 0) < 0)) {
     av_dict_free(&settings);
     fail("cannot start the H.264 encoder", AVERROR(ENOMEM));
   }
