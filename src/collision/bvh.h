@@ -1,0 +1,242 @@
+// Bounding-volume hierarchy of axis-aligned boxes: a binary tree over primitives (given
+// only by their boxes), built top-down by the surface area heuristic (binned). Each inner node holds both children's boxes in single precision, rounded
+// outward (one cache line per node visited); leaves test the primitives' own boxes in
+// double precision, so every query answers exactly as brute force over the boxes would.
+// Queries: primitives overlapping a box, overlapping pairs within one tree or between two,
+// and the primitive nearest to a point. refit() moves the boxes of the same primitives
+// without rebuilding (deforming cloth). Tested in tests/collision/bvh_test.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "core/types.h"
+
+namespace tissu {
+
+using Box3 = Eigen::AlignedBox3d;
+
+class Bvh {
+ public:
+  // Builds the tree over primitives 0 .. boxes.size()-1.
+  void build(const std::vector<Box3>& boxes);
+  // New boxes for the same primitives; the tree keeps its shape.
+  void refit(const std::vector<Box3>& boxes);
+
+  int num_primitives() const { return static_cast<int>(order_.size()); }
+  bool empty() const { return order_.empty(); }
+  const Box3& bounds() const { return bounds_; }
+  const Box3& box_of(int primitive) const { return leaf_boxes_[slot_[primitive]]; }
+
+  // visit(primitive) for every primitive whose box overlaps `query`.
+  template <class Visit>
+  void for_each_overlap(const Box3& query, Visit&& visit) const;
+
+  // visit(i, j) once for every pair of distinct primitives with overlapping boxes.
+  template <class Visit>
+  void for_each_self_overlap(Visit&& visit) const;
+
+  // visit(i, j) for every primitive i of this tree and j of `other` with overlapping boxes.
+  template <class Visit>
+  void for_each_overlap_with(const Bvh& other, Visit&& visit) const;
+
+  // The primitive nearest to p: `distance2(primitive, p)` returns the squared distance to
+  // a primitive (m^2). Only primitives closer than sqrt(max_distance2) are considered (a
+  // known upper bound, such as the distance to a primitive found before, prunes the
+  // search). Returns -1 when there is none; *best_distance2 receives the nearest squared
+  // distance (max_distance2 when none).
+  template <class Distance2>
+  int nearest(const Vec3& p, double max_distance2, Distance2&& distance2,
+              double* best_distance2) const;
+
+ private:
+  friend class WideBvh;
+  // A child reference: >= 0 an inner node; < 0 a leaf, ~(first * 4 + count) with `count`
+  // primitives at order_[first ...].
+  struct Node {
+    float lo[2][3];  // children's boxes, rounded outward, m
+    float hi[2][3];
+    int child[2];
+  };
+  static bool is_leaf(int ref) { return ref < 0; }
+  static int leaf_first(int ref) { return (~ref) >> 2; }
+  static int leaf_count(int ref) { return (~ref) & 3; }
+
+  int build_node(std::vector<int>& ids, const std::vector<Vec3>& centres,
+                 const std::vector<Box3>& boxes, int begin, int end, Box3* box);
+  Box3 refit_node(int ref);
+  void set_child_box(Node& node, int k, const Box3& box);
+  static double box_distance2(const Node& node, int k, const Vec3& p);
+  static bool box_overlaps(const Node& node, int k, const Box3& b);
+  static bool boxes_overlap(const Node& a, int i, const Node& b, int j);
+  Box3 child_box(const Node& node, int k) const;
+
+  template <class Visit>
+  void leaf_pairs(int ref, Visit& visit) const;
+  template <class Visit>
+  void self_pairs(int ref, Visit& visit) const;
+  template <class Visit>
+  void cross_pairs(const Bvh& a, int ra, const Box3& ba, const Bvh& b, int rb, const Box3& bb,
+                   Visit& visit) const;
+
+  std::vector<Node> nodes_;
+  int root_ = 0;                  // child reference of the whole tree
+  Box3 bounds_;
+  std::vector<int> order_;        // primitive ids in leaf order
+  std::vector<int> slot_;         // (primitives) position in order_
+  std::vector<Box3> leaf_boxes_;  // primitive boxes in leaf order, exact
+};
+
+// ---- template definitions ----
+
+inline double Bvh::box_distance2(const Node& node, int k, const Vec3& p) {
+  double d2 = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double below = node.lo[k][a] - p[a], above = p[a] - node.hi[k][a];
+    const double d = below > 0.0 ? below : (above > 0.0 ? above : 0.0);
+    d2 += d * d;
+  }
+  return d2;
+}
+
+inline bool Bvh::box_overlaps(const Node& node, int k, const Box3& b) {
+  for (int a = 0; a < 3; ++a) {
+    if (node.lo[k][a] > b.max()[a] || node.hi[k][a] < b.min()[a]) return false;
+  }
+  return true;
+}
+
+inline bool Bvh::boxes_overlap(const Node& a, int i, const Node& b, int j) {
+  for (int k = 0; k < 3; ++k) {
+    if (a.lo[i][k] > b.hi[j][k] || a.hi[i][k] < b.lo[j][k]) return false;
+  }
+  return true;
+}
+
+template <class Visit>
+void Bvh::for_each_overlap(const Box3& query, Visit&& visit) const {
+  if (order_.empty() || !bounds_.intersects(query)) return;
+  int stack[64];
+  int top = 0;
+  stack[top++] = root_;
+  while (top > 0) {
+    const int ref = stack[--top];
+    if (is_leaf(ref)) {
+      for (int k = leaf_first(ref); k < leaf_first(ref) + leaf_count(ref); ++k) {
+        if (leaf_boxes_[k].intersects(query)) visit(order_[k]);
+      }
+      continue;
+    }
+    const Node& node = nodes_[ref];
+    if (box_overlaps(node, 1, query)) stack[top++] = node.child[1];
+    if (box_overlaps(node, 0, query)) stack[top++] = node.child[0];
+  }
+}
+
+template <class Visit>
+void Bvh::leaf_pairs(int ref, Visit& visit) const {
+  const int first = leaf_first(ref), end = first + leaf_count(ref);
+  for (int i = first; i < end; ++i) {
+    for (int j = i + 1; j < end; ++j) {
+      if (leaf_boxes_[i].intersects(leaf_boxes_[j])) visit(order_[i], order_[j]);
+    }
+  }
+}
+
+template <class Visit>
+void Bvh::for_each_self_overlap(Visit&& visit) const {
+  if (!order_.empty()) self_pairs(root_, visit);
+}
+
+template <class Visit>
+void Bvh::self_pairs(int ref, Visit& visit) const {
+  if (is_leaf(ref)) {
+    leaf_pairs(ref, visit);
+    return;
+  }
+  const Node& node = nodes_[ref];
+  self_pairs(node.child[0], visit);
+  self_pairs(node.child[1], visit);
+  if (boxes_overlap(node, 0, node, 1)) {
+    cross_pairs(*this, node.child[0], child_box(node, 0), *this, node.child[1],
+                child_box(node, 1), visit);
+  }
+}
+
+template <class Visit>
+void Bvh::for_each_overlap_with(const Bvh& other, Visit&& visit) const {
+  if (order_.empty() || other.order_.empty() || !bounds_.intersects(other.bounds_)) return;
+  cross_pairs(*this, root_, bounds_, other, other.root_, other.bounds_, visit);
+}
+
+// Pairs between subtree ra of a (box ba) and subtree rb of b (box bb); the boxes overlap.
+template <class Visit>
+void Bvh::cross_pairs(const Bvh& a, int ra, const Box3& ba, const Bvh& b, int rb,
+                      const Box3& bb, Visit& visit) const {
+  if (is_leaf(ra) && is_leaf(rb)) {
+    for (int i = leaf_first(ra); i < leaf_first(ra) + leaf_count(ra); ++i) {
+      for (int j = leaf_first(rb); j < leaf_first(rb) + leaf_count(rb); ++j) {
+        if (a.leaf_boxes_[i].intersects(b.leaf_boxes_[j])) visit(a.order_[i], b.order_[j]);
+      }
+    }
+    return;
+  }
+  // Descend into the inner node with the larger box (or the only inner one).
+  const bool split_a = is_leaf(rb) || (!is_leaf(ra) && ba.sizes().sum() >= bb.sizes().sum());
+  if (split_a) {
+    const Node& node = a.nodes_[ra];
+    for (int k = 0; k < 2; ++k) {
+      const Box3 child = a.child_box(node, k);
+      if (child.intersects(bb)) cross_pairs(a, node.child[k], child, b, rb, bb, visit);
+    }
+  } else {
+    const Node& node = b.nodes_[rb];
+    for (int k = 0; k < 2; ++k) {
+      const Box3 child = b.child_box(node, k);
+      if (child.intersects(ba)) cross_pairs(a, ra, ba, b, node.child[k], child, visit);
+    }
+  }
+}
+
+template <class Distance2>
+int Bvh::nearest(const Vec3& p, double max_distance2, Distance2&& distance2,
+                 double* best_distance2) const {
+  int best = -1;
+  double best_d2 = max_distance2;
+  if (!order_.empty()) {
+    struct Entry {
+      int ref;
+      double d2;  // squared distance from p to the subtree's box
+    };
+    Entry stack[64];
+    int top = 0;
+    stack[top++] = {root_, bounds_.squaredExteriorDistance(p)};
+    while (top > 0) {
+      const Entry e = stack[--top];
+      if (e.d2 >= best_d2) continue;
+      if (is_leaf(e.ref)) {
+        for (int k = leaf_first(e.ref); k < leaf_first(e.ref) + leaf_count(e.ref); ++k) {
+          const double d2 = distance2(order_[k], p);
+          if (d2 < best_d2) {
+            best_d2 = d2;
+            best = order_[k];
+          }
+        }
+        continue;
+      }
+      // Visit the nearer child first: push it last.
+      const Node& node = nodes_[e.ref];
+      const double d0 = box_distance2(node, 0, p), d1 = box_distance2(node, 1, p);
+      const int near = d0 <= d1 ? 0 : 1;
+      const double dn = near == 0 ? d0 : d1, df = near == 0 ? d1 : d0;
+      if (df < best_d2) stack[top++] = {node.child[1 - near], df};
+      if (dn < best_d2) stack[top++] = {node.child[near], dn};
+    }
+  }
+  *best_distance2 = best_d2;
+  return best;
+}
+
+}  // namespace tissu
