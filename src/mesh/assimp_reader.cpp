@@ -81,7 +81,7 @@ void check_ply(const std::string& path) {
 
 }  // namespace
 
-MeshFileData read_with_assimp_in_process(const std::string& path) {
+MeshFileData read_with_assimp_in_process(const std::string& path, bool texture) {
   auto fail = [&](const std::string& problem) { throw InputError(path + ": " + problem); };
   check_ply(path);
   Assimp::Importer importer;
@@ -94,7 +94,7 @@ MeshFileData read_with_assimp_in_process(const std::string& path) {
   }
 
   // Texture coordinates come from channel 0, and only when every mesh has them.
-  bool with_texture = scene->mNumMeshes > 0;
+  bool with_texture = texture && scene->mNumMeshes > 0;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     with_texture = with_texture && scene->mMeshes[m]->HasTextureCoords(0);
   }

@@ -152,7 +152,7 @@ void run_test_hook() {
   if (std::strcmp(hook, "segv") == 0) raise(SIGSEGV);
 }
 
-[[noreturn]] void child_main(const std::string& path, int fd, pid_t parent) {
+[[noreturn]] void child_main(const std::string& path, bool texture, int fd, pid_t parent) {
 #ifdef __linux__
   // Die with the parent (a parent killed while waiting must not leave a reader running).
   prctl(PR_SET_PDEATHSIG, SIGKILL);
@@ -179,7 +179,7 @@ void run_test_hook() {
   std::string message;
   try {
     run_test_hook();
-    message = encode(read_with_assimp_in_process(path));
+    message = encode(read_with_assimp_in_process(path, texture));
   } catch (const InputError& e) {
     message = encode_error(kInputError, e.what());
   } catch (const std::bad_alloc&) {
@@ -222,7 +222,7 @@ double mesh_read_timeout(unsigned long long bytes) {
   return 10.0 + static_cast<double>((bytes + mib - 1) / mib);
 }
 
-MeshFileData read_with_assimp(const std::string& path) {
+MeshFileData read_with_assimp(const std::string& path, bool texture) {
   auto fail = [&](const std::string& problem) { throw InputError(path + ": " + problem); };
   struct stat info {};
   const unsigned long long bytes =
@@ -245,7 +245,7 @@ MeshFileData read_with_assimp(const std::string& path) {
   }
   if (child == 0) {
     close(fds[0]);
-    child_main(path, fds[1], parent);
+    child_main(path, texture, fds[1], parent);
   }
   close(fds[1]);
   const int fd = fds[0];

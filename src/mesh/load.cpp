@@ -110,4 +110,13 @@ TriMesh load_mesh(const std::string& path, double uv_scale) {
   return std::move(data.mesh);
 }
 
+SurfaceFile load_surface(const std::string& path) {
+  require_regular_file(path);
+  MeshFileData data = has_obj_extension(path) ? read_obj(path, false)
+                                              : read_with_assimp(path, false);
+  if (data.mesh.triangles.empty()) throw InputError(path + ": contains no triangles");
+  return {std::move(data.mesh.positions), std::move(data.mesh.triangles),
+          std::move(data.triangle_places)};
+}
+
 }  // namespace tissu

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "mesh/mesh.h"
 
@@ -16,6 +17,19 @@ namespace tissu {
 // is projected onto its plane (see set_rest_uv_from_plane). The result passes validate_mesh.
 // Bad input raises InputError naming the file and the place.
 TriMesh load_mesh(const std::string& path, double uv_scale);
+
+// A surface read for a mesh obstacle: positions (in the file's units) and triangles, no
+// rest coordinates (texture coordinates are ignored). Polygons are split into fans;
+// numbering as load_mesh. `places` names each triangle's face in the file, for messages.
+struct SurfaceFile {
+  Vec3List positions;
+  TriList triangles;
+  std::vector<std::string> places;
+};
+// Reads OBJ, OFF, PLY, STL and the other formats assimp reads. Bad input raises
+// InputError naming the file and the place; the surface's shape is checked by its user
+// (collision/closed_surface.h).
+SurfaceFile load_surface(const std::string& path);
 
 // Relative flatness tolerance: distance to the plane / bounding-box diagonal.
 constexpr double kFlatTolerance = 1e-6;

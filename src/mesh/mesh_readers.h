@@ -18,7 +18,8 @@ struct MeshFileData {
 // Wavefront OBJ, parsed here so that vertex i is the file's i-th `v` line. Reads v, vt and
 // f (v, v/vt, v/vt/vn, v//vn corners; negative indices count back); polygons are split into
 // a fan from their first corner; other statements are ignored.
-MeshFileData read_obj(const std::string& path);
+// With `texture` false, texture coordinates are not read (mesh obstacles need none).
+MeshFileData read_obj(const std::string& path, bool texture = true);
 
 // Any other format assimp reads, triangulated and with node transforms applied. Corners at
 // exactly the same position are welded into one vertex (formats such as STL store a vertex
@@ -26,10 +27,10 @@ MeshFileData read_obj(const std::string& path);
 // assimp runs in a child process (isolated_read.cpp): when it does not finish within the
 // time limit (mesh_read_timeout) or dies of a signal, the child is killed and an InputError
 // names the file and the problem. The result is the same as read_with_assimp_in_process.
-MeshFileData read_with_assimp(const std::string& path);
+MeshFileData read_with_assimp(const std::string& path, bool texture = true);
 
 // The same read in this process, without a time limit (what the child runs).
-MeshFileData read_with_assimp_in_process(const std::string& path);
+MeshFileData read_with_assimp_in_process(const std::string& path, bool texture = true);
 
 // The child's time limit for reading a file of `bytes` bytes, s: 10 s + 1 s per started MiB,
 // or the environment variable TISSU_MESH_READ_TIMEOUT (s, a positive number) when set.

@@ -39,7 +39,7 @@ std::vector<std::string_view> split_words(std::string_view text) {
 
 class ObjParser {
  public:
-  explicit ObjParser(const std::string& path) : path_(path) {}
+  ObjParser(const std::string& path, bool texture) : path_(path), texture_wanted_(texture) {}
 
   MeshFileData parse() {
     std::ifstream in(path_, std::ios::binary);
@@ -138,6 +138,7 @@ class ObjParser {
         fail(face_place(f) + ": vertex index " + std::to_string(c.vertex_as_written) +
              " out of range (file has " + std::to_string(positions_.size()) + " vertices)");
       }
+      if (!texture_wanted_) continue;
       if ((c.texture_as_written != 0) != with_texture) {
         fail(face_place(f) + ": " + (with_texture ? "a corner has no" : "a corner has a") +
              " texture coordinate index, unlike " + face_place(faces_.front()) +
@@ -155,8 +156,8 @@ class ObjParser {
     MeshFileData data;
     TriMesh& mesh = data.mesh;
     mesh.positions = positions_;
-    const bool with_texture =
-        !faces_.empty() && faces_.front().corners.front().texture_as_written != 0;
+    const bool with_texture = texture_wanted_ && !faces_.empty() &&
+                              faces_.front().corners.front().texture_as_written != 0;
     for (const Face& f : faces_) check_indices(f, with_texture);
     if (with_texture) assign_texture_coordinates(mesh);
     for (const Face& f : faces_) {
@@ -194,6 +195,7 @@ class ObjParser {
   }
 
   const std::string& path_;
+  bool texture_wanted_ = true;
   int line_ = 0;
   Vec3List positions_;
   Vec2List texture_;
@@ -210,6 +212,8 @@ bool same_texture_coordinates(const Vec2& a, const Vec2& b, double extent) {
   return (a - b).cwiseAbs().maxCoeff() <= 1e-9 * std::max(extent, 1e-300);
 }
 
-MeshFileData read_obj(const std::string& path) { return ObjParser(path).parse(); }
+MeshFileData read_obj(const std::string& path, bool texture) {
+  return ObjParser(path, texture).parse();
+}
 
 }  // namespace tissu

@@ -269,3 +269,48 @@ TEST_F(meshLoad, UVScaleMustBePositive) {
 
 }  // namespace
 }  // namespace tissu
+
+namespace tissu {
+namespace {
+
+// A tetrahedron: OBJ with texture seams (ignored for surfaces), OFF and ASCII STL.
+TEST_F(meshLoad, SurfacesReadAnyFormatWithoutRestCoordinates) {
+  const std::string obj = dir_.write("tet.obj",
+                                     "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                     "vt 0 0\nvt 1 0\nvt 9 9\n"
+                                     "f 1/1 3/2 2/3\nf 1/2 2/1 4/3\nf 1/3 4/2 3/1\nf 2 3 4\n");
+  const SurfaceFile a = load_surface(obj);
+  EXPECT_EQ(a.positions.size(), 4u);
+  ASSERT_EQ(a.triangles.size(), 4u);
+  EXPECT_EQ(a.triangles[0], Tri(0, 2, 1));
+  EXPECT_EQ(a.places[3], "line 11 (face 4)");
+  const std::string off = dir_.write("tet.off",
+                                     "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                                     "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  const SurfaceFile b = load_surface(off);
+  EXPECT_EQ(b.positions.size(), 4u);
+  EXPECT_EQ(b.triangles.size(), 4u);
+  std::string stl = "solid tet\n";
+  const char* facets[4] = {"0 0 0  0 1 0  1 0 0", "0 0 0  1 0 0  0 0 1",
+                           "0 0 0  0 0 1  0 1 0", "1 0 0  0 1 0  0 0 1"};
+  for (const char* f : facets) {
+    double v[9];
+    std::sscanf(f, "%lf %lf %lf %lf %lf %lf %lf %lf %lf", &v[0], &v[1], &v[2], &v[3], &v[4],
+                &v[5], &v[6], &v[7], &v[8]);
+    stl += "facet normal 0 0 0\nouter loop\n";
+    for (int k = 0; k < 3; ++k) {
+      stl += "vertex " + std::to_string(v[3 * k]) + " " + std::to_string(v[3 * k + 1]) + " " +
+             std::to_string(v[3 * k + 2]) + "\n";
+    }
+    stl += "endloop\nendfacet\n";
+  }
+  stl += "endsolid tet\n";
+  const SurfaceFile c = load_surface(dir_.write("tet.stl", stl));
+  EXPECT_EQ(c.positions.size(), 4u);  // corners welded
+  EXPECT_EQ(c.triangles.size(), 4u);
+  EXPECT_EQ(input_error_of([&] { load_surface(path("missing.off")); }),
+            path("missing.off") + ": cannot open: No such file or directory");
+}
+
+}  // namespace
+}  // namespace tissu
