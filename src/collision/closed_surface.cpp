@@ -14,7 +14,7 @@ namespace {
 // A triangle below this area / (longest edge)^2 has collinear corners up to rounding.
 constexpr double kZeroAreaRatio = 1e-12;
 // Cells along the longest side of the far-field grid.
-constexpr int kGridCells = 64;
+constexpr int kGridCells = 32;
 
 std::string triangle_name(const std::vector<std::string>& places, size_t t) {
   return places.empty() ? "triangle " + std::to_string(t) : places[t];
@@ -276,7 +276,7 @@ void ClosedSurface::build_far_grid() {
 SurfaceQuery ClosedSurface::closest_within(const Vec3& p, double reach, int hint) const {
   // Far from the surface's box: outside, at least that far.
   const double outside = bounds().exteriorDistance(p);
-  if (outside >= reach) {
+  if (outside > 0.0 && outside >= reach) {
     SurfaceQuery far;
     far.distance = outside;
     far.normal = (p - bounds().center()).normalized();
@@ -294,7 +294,7 @@ SurfaceQuery ClosedSurface::closest_within(const Vec3& p, double reach, int hint
   const double centre = cell_distance_[(static_cast<size_t>(k) * cells_[1] + j) * cells_[0] + i];
   const double slack = 0.8660254037844386 * cell_ + 1e-6 * std::fabs(centre) + 1e-9;
   const double lower = std::fabs(centre) - slack;
-  if (lower >= reach) {
+  if (lower > 0.0 && lower >= reach) {
     SurfaceQuery far;
     far.distance = centre < 0.0 ? -lower : lower;
     far.normal = (p - bounds().center()).normalized();

@@ -90,7 +90,7 @@ TEST(ClosedSurface, FarPointsGetTheSignAndABound) {
   std::mt19937 rng(6);
   std::uniform_real_distribution<double> u(-1.5, 1.5);
   int far = 0;
-  for (const double reach : {0.01, 0.05, 0.2}) {
+  for (const double reach : {0.0, 0.01, 0.05, 0.2}) {
     for (int i = 0; i < 4000; ++i) {
       const Vec3 p = Vec3(1, 2, 3) + Vec3(u(rng), u(rng), u(rng));
       const SurfaceQuery exact = sphere.closest(p);
@@ -101,6 +101,7 @@ TEST(ClosedSurface, FarPointsGetTheSignAndABound) {
       } else {
         EXPECT_EQ(q.distance < 0, exact.distance < 0);
         EXPECT_GE(std::fabs(q.distance), reach);
+        EXPECT_NE(q.distance, 0.0);
         EXPECT_LE(std::fabs(q.distance), std::fabs(exact.distance) + 1e-12);
         far += q.triangle < 0;
       }
