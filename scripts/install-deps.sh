@@ -12,7 +12,8 @@ PACKAGES=(
   libglm-dev             # renderer maths
   libassimp-dev          # mesh files (OBJ, PLY, STL, glTF, ...)
   nlohmann-json3-dev     # scene files
-  libcgal-dev            # Delaunay triangulation of generated meshes
+  libcgal-dev            # Delaunay triangulation of generated meshes, exact predicates
+  libcgal-demo           # sample meshes (a body to dress), extracted by the build
   libgtest-dev           # tests
   libosmesa6-dev         # off-screen OpenGL (Mesa llvmpipe)
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # MP4/H.264

@@ -55,6 +55,13 @@ struct PositionCorrection {
   int iterations = 1;
 };
 
+// Cloth against cloth (physics/cloth_contact.h): the distance the cloth keeps from itself
+// and Coulomb friction between its layers.
+struct SelfCollision {
+  double thickness = 0.0;  // m
+  double friction = 0.0;   // Coulomb coefficient (dimensionless)
+};
+
 // Newton and conjugate-gradient settings of the implicit integrators.
 enum class LinearSolver {
   Cholesky,        // sparse Cholesky factor of each Newton matrix, as PCG's preconditioner
@@ -95,6 +102,7 @@ struct Model {
   std::optional<Wind> wind;
   std::optional<PositionCorrection> position_correction;
   std::vector<Obstacle> obstacles;
+  std::optional<SelfCollision> self_collision;
   std::shared_ptr<const BendingModel> bending;  // null when the material has no bending
 
   // Time stepping.

@@ -3,11 +3,50 @@
 #include <algorithm>
 #include <cmath>
 
+#include "collision/closed_surface.h"
+
 namespace tissu {
+
+namespace {
+
+// The keyframe segment holding time t: [k, k + 1], or k alone before the first and after
+// the last keyframe (then `inside` is false).
+struct Segment {
+  size_t k = 0;
+  bool inside = false;
+};
+
+Segment segment_at(const std::vector<Keyframe>& keys, double t) {
+  if (keys.empty() || t < keys.front().time) return {0, false};
+  for (size_t k = 0; k + 1 < keys.size(); ++k) {
+    if (t < keys[k + 1].time) return {k, true};
+  }
+  return {keys.size() - 1, false};
+}
+
+// Angle (rad) times unit axis of the turn from keyframe k to k + 1, the shorter way.
+Vec3 turn_between(const Keyframe& a, const Keyframe& b) {
+  Eigen::Quaterniond delta = b.rotation * a.rotation.conjugate();
+  if (delta.w() < 0.0) delta.coeffs() = -delta.coeffs();
+  const Eigen::AngleAxisd turn(delta);
+  return turn.angle() * turn.axis();
+}
+
+}  // namespace
 
 Vec3 Obstacle::offset(double t) const {
   Vec3 o = motion.velocity * t;
   if (motion.period > 0.0) o += motion.amplitude * std::sin(2.0 * M_PI * t / motion.period);
+  const std::vector<Keyframe>& keys = motion.keyframes;
+  if (!keys.empty()) {
+    const Segment s = segment_at(keys, t);
+    if (s.inside) {
+      const double f = (t - keys[s.k].time) / (keys[s.k + 1].time - keys[s.k].time);
+      o += (1.0 - f) * keys[s.k].translation + f * keys[s.k + 1].translation;
+    } else {
+      o += keys[s.k].translation;
+    }
+  }
   return o;
 }
 
@@ -17,7 +56,37 @@ Vec3 Obstacle::velocity(double t) const {
     const double w = 2.0 * M_PI / motion.period;
     v += motion.amplitude * (w * std::cos(w * t));
   }
+  const std::vector<Keyframe>& keys = motion.keyframes;
+  const Segment s = segment_at(keys, t);
+  if (s.inside) {
+    v += (keys[s.k + 1].translation - keys[s.k].translation) /
+         (keys[s.k + 1].time - keys[s.k].time);
+  }
   return v;
+}
+
+Mat3 Obstacle::rotation(double t) const {
+  const std::vector<Keyframe>& keys = motion.keyframes;
+  if (keys.empty()) return Mat3::Identity();
+  const Segment s = segment_at(keys, t);
+  if (!s.inside) return keys[s.k].rotation.toRotationMatrix();
+  const double f = (t - keys[s.k].time) / (keys[s.k + 1].time - keys[s.k].time);
+  const Vec3 turn = turn_between(keys[s.k], keys[s.k + 1]);
+  const double angle = turn.norm();
+  const Mat3 partial = angle > 0.0 ? Eigen::AngleAxisd(f * angle, turn / angle).toRotationMatrix()
+                                   : Mat3::Identity();
+  return partial * keys[s.k].rotation.toRotationMatrix();
+}
+
+Vec3 Obstacle::angular_velocity(double t) const {
+  const std::vector<Keyframe>& keys = motion.keyframes;
+  const Segment s = segment_at(keys, t);
+  if (!s.inside) return Vec3::Zero();
+  return turn_between(keys[s.k], keys[s.k + 1]) / (keys[s.k + 1].time - keys[s.k].time);
+}
+
+Vec3 Obstacle::carried(const Vec3& p0, double t) const {
+  return center_at(t) + rotation(t) * (p0 - center);
 }
 
 namespace {
@@ -72,11 +141,20 @@ double cylinder_distance(const Vec3& p, const Vec3& c, const Vec3& axis, double 
 }  // namespace
 
 double Obstacle::signed_distance(const Vec3& p, double t, Vec3* normal) const {
-  return signed_distance_from(p, center_at(t), normal);
+  return signed_distance_from(p, center_at(t), normal, rotation(t));
 }
 
-double Obstacle::signed_distance_from(const Vec3& p, const Vec3& c, Vec3* normal) const {
+double Obstacle::signed_distance_from(const Vec3& p, const Vec3& c, Vec3* normal,
+                                      const Mat3& turn, double reach) const {
   switch (kind) {
+    case ObstacleKind::Mesh: {
+      // In the surface's frame at t = 0; distances are the same there.
+      const Vec3 local = center + turn.transpose() * (p - c);
+      SurfaceQuery q = surface->closest_within(local, reach);
+      if (q.triangle < 0 && q.distance < 0.0) q = surface->closest(local);
+      *normal = turn * q.normal;
+      return q.distance;
+    }
     case ObstacleKind::Sphere: return sphere_distance(p, c, radius, normal);
     case ObstacleKind::Cylinder: return cylinder_distance(p, c, axis, radius, half_length, normal);
     case ObstacleKind::Plane:
@@ -91,6 +169,7 @@ const char* obstacle_kind_name(ObstacleKind kind) {
     case ObstacleKind::Sphere: return "sphere";
     case ObstacleKind::Cylinder: return "cylinder";
     case ObstacleKind::Plane: return "plane";
+    case ObstacleKind::Mesh: return "mesh";
   }
   return "unknown";
 }

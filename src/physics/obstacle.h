@@ -1,21 +1,41 @@
-// Rigid obstacles the cloth collides with: sphere, finite capped cylinder, plane.
-// A closed set, so one plain struct and a switch. Obstacles may move rigidly:
-// offset(t) = velocity * t + amplitude * sin(2 pi t / period).
+// Rigid obstacles the cloth collides with: sphere, finite capped cylinder, plane, and a
+// closed triangle surface (mesh). A closed set, so one plain struct and a switch.
+// Obstacles may move rigidly: offset(t) = velocity * t + amplitude * sin(2 pi t / period)
+// + the translation of keyframes; meshes may also turn about their centre by keyframes.
 #pragma once
 
+#include <Eigen/Geometry>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "core/types.h"
 
 namespace tissu {
 
-enum class ObstacleKind { Sphere, Cylinder, Plane };
+class ClosedSurface;  // collision/closed_surface.h
+
+enum class ObstacleKind { Sphere, Cylinder, Plane, Mesh };
+
+// A pose of a keyframed motion: at `time` the obstacle is turned by `rotation` about its
+// centre and moved by `translation` from where it is at t = 0. Between two keyframes it
+// moves at constant velocity and turns at constant angular velocity about a fixed axis
+// (the shorter way); before the first keyframe it holds the first pose, after the last
+// one the last.
+struct Keyframe {
+  double time = 0.0;                // s
+  Vec3 translation = Vec3::Zero();  // m
+  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+};
 
 struct ObstacleMotion {
   Vec3 velocity = Vec3::Zero();   // m/s, constant drift
   Vec3 amplitude = Vec3::Zero();  // m, periodic displacement amplitude
   double period = 0.0;            // s; 0 = no periodic part
-  bool moves() const { return !velocity.isZero() || (period > 0 && !amplitude.isZero()); }
+  std::vector<Keyframe> keyframes;  // ascending times; empty = none
+  bool moves() const {
+    return !velocity.isZero() || (period > 0 && !amplitude.isZero()) || !keyframes.empty();
+  }
 };
 
 struct Obstacle {
@@ -25,17 +45,30 @@ struct Obstacle {
   double radius = 0.0;         // sphere/cylinder radius (m)
   double half_length = 0.0;    // cylinder half length along the axis (m)
   double friction = 0.0;       // Coulomb coefficient (dimensionless)
+  double thickness = 0.0;      // m: the distance the cloth keeps from the surface
   ObstacleMotion motion;
+  // Mesh: the closed surface, in world coordinates at t = 0; `center` is the point it
+  // turns about (the centre of its bounding box).
+  std::shared_ptr<const ClosedSurface> surface;
 
   Vec3 offset(double t) const;         // rigid displacement at time t (m)
   Vec3 velocity(double t) const;       // rigid velocity at time t (m/s)
   Vec3 center_at(double t) const { return center + offset(t); }
+  Mat3 rotation(double t) const;          // turn about the centre since t = 0 (keyframes)
+  Vec3 angular_velocity(double t) const;  // rad/s, world axes
+  // World position at time t of a point that is at `p0` at t = 0 (moving with the obstacle).
+  Vec3 carried(const Vec3& p0, double t) const;
 
   // Signed distance from p to the surface at time t (m, negative inside) and the
   // outward unit normal of the closest surface point.
   double signed_distance(const Vec3& p, double t, Vec3* normal) const;
-  // The same with the centre (or plane point) already placed: center_at(t).
-  double signed_distance_from(const Vec3& p, const Vec3& placed_center, Vec3* normal) const;
+  // The same with the centre (or plane point) already placed at center_at(t) and, for a
+  // mesh, turned by rotation(t). A mesh answers points outside it and farther than
+  // `reach` from it with a lower bound >= reach (the cost of a grid lookup instead of a
+  // tree search); inside and within reach the distance is exact.
+  double signed_distance_from(const Vec3& p, const Vec3& placed_center, Vec3* normal,
+                              const Mat3& rotation = Mat3::Identity(),
+                              double reach = INFINITY) const;
 };
 
 const char* obstacle_kind_name(ObstacleKind kind);

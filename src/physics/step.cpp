@@ -1,5 +1,7 @@
 #include "physics/step.h"
 
+#include <time.h>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -72,7 +74,7 @@ double distance_if_inside(const PlacedObstacle& placed, const Vec3& p, Vec3* nor
       (p - placed.center).squaredNorm() >= ob.radius * ob.radius) {
     return INFINITY;
   }
-  return ob.signed_distance_from(p, placed.center, normal);
+  return ob.signed_distance_from(p, placed.center, normal, placed.rotation, 0.0);
 }
 
 // Section 2.3 with the projection corrected (notes.md), for one vertex: inside an obstacle
@@ -89,14 +91,16 @@ void collide_vertex(const std::vector<PlacedObstacle>& obstacles, Vec3& x, Vec3&
       if (d >= 0.0) continue;
       inside = true;
       x -= d * n;
-      const Vec3 relative = v - placed.velocity;
+      const Vec3 surface_velocity =
+          placed.velocity + placed.angular_velocity.cross(x - placed.center);
+      const Vec3 relative = v - surface_velocity;
       const double vn = relative.dot(n);
       if (vn >= 0.0) continue;
       Vec3 tangential = relative - vn * n;
       const double vt = tangential.norm();
       const double slow = placed.obstacle->friction * (-vn);
       tangential = (vt <= slow) ? Vec3::Zero() : Vec3(tangential * (1.0 - slow / vt));
-      v = placed.velocity + tangential;
+      v = surface_velocity + tangential;
     }
     if (!inside) break;
   }
@@ -104,7 +108,9 @@ void collide_vertex(const std::vector<PlacedObstacle>& obstacles, Vec3& x, Vec3&
 
 void place_obstacles(const Model& model, double t, std::vector<PlacedObstacle>& placed) {
   placed.clear();
-  for (const Obstacle& ob : model.obstacles) placed.push_back({&ob, ob.center_at(t), ob.velocity(t)});
+  for (const Obstacle& ob : model.obstacles) {
+    placed.push_back({&ob, ob.center_at(t), ob.velocity(t), ob.rotation(t), ob.angular_velocity(t)});
+  }
 }
 
 void check_vertex(int i, const Vec3& x, const Vec3& v, BlockCheck& check) {
@@ -170,6 +176,8 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   place_obstacles(model, t_new, scratch.placed);
   const bool explicit_step = is_explicit(model.integrator);
   const int threads = force_threads(ws.threads, model);
+  const bool contact_stage = needs_cloth_contact(model);
+  if (contact_stage) scratch.x_start = state.x;
 
   if (model.position_correction) scratch.x_old.resize(n);
   if (explicit_step) {
@@ -204,6 +212,16 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
       check_vertex(i, state.x[i], state.v[i], scratch.checks[block]);
     }
   });
+
+  // Cloth against itself and against mesh obstacles' features, around the integrator.
+  if (contact_stage) {
+    if (!scratch.contact) scratch.contact = std::make_shared<ClothContact>();
+    timespec start{}, end{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &start);
+    ws.contact = scratch.contact->resolve(model, state.t, h, scratch.x_start, state.x, state.v);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &end);
+    ws.contact_seconds = (end.tv_sec - start.tv_sec) + 1e-9 * (end.tv_nsec - start.tv_nsec);
+  }
 
   state.step += 1;
   state.t = t_new;

@@ -18,6 +18,8 @@ struct PlacedObstacle {
   const Obstacle* obstacle = nullptr;
   Vec3 center = Vec3::Zero();    // m
   Vec3 velocity = Vec3::Zero();  // m/s
+  Mat3 rotation = Mat3::Identity();        // meshes: turn about the centre since t = 0
+  Vec3 angular_velocity = Vec3::Zero();    // rad/s
 };
 
 // What the divergence check found in one vertex block.
@@ -35,6 +37,8 @@ struct StepScratch {
   std::vector<PlacedObstacle> placed;   // obstacles at the end of the step
   std::vector<BlockCheck> checks;       // (vertex blocks) divergence check
   std::shared_ptr<ImplicitSolver> implicit;  // created by the first implicit step
+  std::shared_ptr<ClothContact> contact;     // collision stage, when the model needs it
+  Vec3List x_start;                          // (V) positions at the step's start, m
 };
 
 // The workspace's scratch, created on first use.

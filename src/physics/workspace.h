@@ -4,6 +4,8 @@
 
 #include <memory>
 
+#include "physics/cloth_contact.h"
+
 namespace tissu {
 
 struct StepScratch;  // physics/step_scratch.h: force plan, buffers, implicit solver
@@ -16,6 +18,9 @@ struct Workspace {
   // Implicit solver statistics of the last step.
   int newton_iterations = 0;
   int cg_iterations = 0;
+  // The collision stage of the last step (cloth_contact.h) and its processor time, s.
+  ContactStats contact;
+  double contact_seconds = 0.0;
   std::shared_ptr<StepScratch> scratch;  // created by the first step
 };
 

@@ -7,6 +7,7 @@
 #include <regex>
 #include <sstream>
 
+#include "core/executable_dir.h"
 #include "render/render_error.h"
 
 #ifndef TISSU_SHADER_DIR
@@ -16,15 +17,6 @@
 namespace tissu {
 
 namespace {
-
-std::string executable_dir() {
-  std::vector<char> buffer(4096);
-  const ssize_t n = readlink("/proc/self/exe", buffer.data(), buffer.size() - 1);
-  if (n <= 0) return "";
-  const std::string path(buffer.data(), static_cast<size_t>(n));
-  const size_t slash = path.rfind('/');
-  return slash == std::string::npos ? "" : path.substr(0, slash);
-}
 
 bool read_file(const std::string& path, std::string& text) {
   std::ifstream in(path, std::ios::binary);

@@ -38,6 +38,15 @@ struct CrumpleSpec {
   uint64_t seed = 1;
 };
 
+// The surface file of a mesh obstacle and how it is placed (read when the simulation is
+// built): positions are scaled, rotated, then translated, as the cloth's transform does.
+struct ObstacleMeshSpec {
+  size_t obstacle = 0;       // index in Scene::obstacles
+  std::string path;          // JSON path of the "mesh" object (for messages)
+  std::string file;          // resolved path
+  ClothTransform transform;
+};
+
 struct PinSpec {
   std::string path;                     // JSON path, for errors
   std::vector<long long> vertices;
@@ -65,6 +74,8 @@ struct Scene {
   std::optional<Wind> wind;
   std::optional<PositionCorrection> position_correction;
   std::vector<Obstacle> obstacles;
+  std::vector<ObstacleMeshSpec> obstacle_meshes;
+  std::optional<SelfCollision> self_collision;
 
   Json render;  // the raw `render` block (null when absent), validated by the renderer
 };
@@ -75,6 +86,12 @@ Json read_scene_json(const std::string& file);
 // Applies one `--set key.path=value` override (value parsed as JSON if it parses, else a
 // string). Array elements are addressed by index: obstacles.0.sphere.radius.
 void apply_override(Json& doc, const std::string& assignment);
+
+// Where a file named in a scene is: a relative path is looked up next to the scene file,
+// then in Tissu's data directory (data/ beside the tissu program, where the build puts the
+// sample meshes of Debian's libcgal-demo, and the build tree's data/). Returns the first
+// that exists, else the path next to the scene file.
+std::string resolve_scene_file(const std::string& name, const std::string& scene_file);
 
 // Validates a scene document. `file` is used to resolve mesh paths. Errors are InputError
 // "<json.path>: <problem>".

@@ -2,6 +2,9 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include <iostream>
+
+#include "collision/closed_surface.h"
 #include "mesh/generate.h"
 #include "mesh/load.h"
 #include "mesh/random.h"
@@ -108,6 +111,37 @@ void apply_crumple(const CrumpleSpec& spec, const Vec2List& uv, Vec3List& x) {
   }
 }
 
+// Reads, places and checks the surface of a mesh obstacle. Errors name the scene key.
+void load_obstacle_surface(const ObstacleMeshSpec& spec, Obstacle& ob) {
+  const std::string key = spec.path + ".file";
+  SurfaceFile file;
+  try {
+    file = load_surface(spec.file);
+  } catch (const InputError& e) {
+    throw InputError(key + ": " + e.what());
+  }
+  apply_transform(spec.transform, file.positions);
+  require_finite(file.positions, spec.path + ".transform");
+  try {
+    auto surface = std::make_shared<ClosedSurface>(std::move(file.positions),
+                                                   std::move(file.triangles), spec.file, file.places);
+    if (surface->reversed()) {
+      std::cerr << "warning: " << spec.file << ": the triangles faced inward; reversed\n";
+    }
+    const CrossingReport& crossings = surface->self_crossings();
+    if (crossings.any()) {
+      std::cerr << "warning: " << spec.file << ": the surface crosses itself at " << crossings.count
+                << " pairs of triangles (first: " << file.places[crossings.pairs[0].first] << " and "
+                << file.places[crossings.pairs[0].second]
+                << "); inside it, near those places, points may be taken for outside\n";
+    }
+    ob.center = surface->bounds().center();
+    ob.surface = std::move(surface);
+  } catch (const InputError& e) {
+    throw InputError(key + ": " + e.what());
+  }
+}
+
 Simulation build(const Scene& scene) {
   TriMesh mesh = make_mesh(scene.mesh);
   Simulation sim;
@@ -124,6 +158,10 @@ Simulation build(const Scene& scene) {
   model.wind = scene.wind;
   model.position_correction = scene.position_correction;
   model.obstacles = scene.obstacles;
+  for (const ObstacleMeshSpec& spec : scene.obstacle_meshes) {
+    load_obstacle_surface(spec, model.obstacles[spec.obstacle]);
+  }
+  model.self_collision = scene.self_collision;
 
   State& state = sim.state;
   state.x = std::move(mesh.positions);

@@ -1,11 +1,17 @@
 // Strict parsing of a scene document into a Scene (docs/scenes.md).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "core/executable_dir.h"
 #include "physics/materials.h"
 #include "scene/scene.h"
+
+#ifndef TISSU_DATA_DIR
+#define TISSU_DATA_DIR ""
+#endif
 
 namespace tissu {
 
@@ -180,13 +186,52 @@ Wind parse_wind(JsonReader w) {
   return wind;
 }
 
-ObstacleMotion parse_motion(JsonReader m) {
+Eigen::Quaterniond parse_rotation(JsonReader r) {
+  const Vec3 axis = r.vec3("axis");
+  if (axis.norm() == 0.0) throw InputError(r.path_of("axis") + ": must not be zero");
+  const double degrees = r.number("degrees");
+  r.finish();
+  return Eigen::Quaterniond(Eigen::AngleAxisd(degrees * M_PI / 180.0, axis.normalized()));
+}
+
+// Keyframes: ascending times; rotations only for obstacles that can turn (meshes).
+std::vector<Keyframe> parse_keyframes(JsonReader& m, bool can_turn) {
+  std::vector<Keyframe> keys;
+  const Json& list = m.raw("keyframes");
+  const std::string path = m.path_of("keyframes");
+  if (!list.is_array() || list.empty()) {
+    throw InputError(path + ": must be a non-empty array of {\"time\", \"translate\", \"rotate\"}");
+  }
+  for (size_t i = 0; i < list.size(); ++i) {
+    JsonReader k(list[i], element_path(path, i));
+    Keyframe key;
+    key.time = k.number("time", Range::non_negative());
+    if (!keys.empty() && !(key.time > keys.back().time)) {
+      throw InputError(k.path_of("time") + ": keyframe times must increase, got " +
+                       format_number(key.time) + " after " + format_number(keys.back().time));
+    }
+    key.translation = k.vec3("translate", Vec3::Zero());
+    if (k.has("rotate")) {
+      if (!can_turn) {
+        throw InputError(k.path_of("rotate") +
+                         ": only mesh obstacles turn; spheres, cylinders and planes translate");
+      }
+      key.rotation = parse_rotation(k.object("rotate"));
+    }
+    k.finish();
+    keys.push_back(key);
+  }
+  return keys;
+}
+
+ObstacleMotion parse_motion(JsonReader m, bool can_turn) {
   ObstacleMotion motion;
   motion.velocity = m.vec3("velocity", Vec3::Zero());
   if (m.has("amplitude") || m.has("period")) {
     motion.amplitude = m.vec3("amplitude");
     motion.period = m.number("period", Range::positive());
   }
+  if (m.has("keyframes")) motion.keyframes = parse_keyframes(m, can_turn);
   m.finish();
   return motion;
 }
@@ -197,18 +242,21 @@ Vec3 unit_vector(JsonReader& r, const std::string& key) {
   return v.normalized();
 }
 
-Obstacle parse_obstacle(const Json& value, const std::string& path) {
+// One element of "obstacles"; a mesh obstacle also adds its surface file to the scene.
+Obstacle parse_obstacle(const Json& value, const std::string& path, Scene& scene) {
   JsonReader wrapper(value, path);
+  const std::vector<std::string> kinds = {"sphere", "cylinder", "plane", "mesh"};
   if (value.size() != 1) {
-    throw InputError(path + ": must hold exactly one of \"sphere\", \"cylinder\", \"plane\"");
+    throw InputError(path + ": must hold exactly one of \"sphere\", \"cylinder\", \"plane\", "
+                     "\"mesh\"");
   }
   const std::string kind = value.begin().key();
   Obstacle ob;
-  if (kind != "sphere" && kind != "cylinder" && kind != "plane") {
-    const std::string near = closest_key(kind, {"sphere", "cylinder", "plane"});
+  if (std::find(kinds.begin(), kinds.end(), kind) == kinds.end()) {
+    const std::string near = closest_key(kind, kinds);
     throw InputError(wrapper.path_of(kind) + ": unknown obstacle" +
                      (near.empty() ? "" : " (did you mean \"" + near + "\"?)") +
-                     "; expected sphere, cylinder or plane");
+                     "; expected sphere, cylinder, plane or mesh");
   }
   JsonReader r = wrapper.object(kind);
   if (kind == "sphere") {
@@ -221,19 +269,44 @@ Obstacle parse_obstacle(const Json& value, const std::string& path) {
     ob.axis = unit_vector(r, "axis");
     ob.radius = r.number("radius", Range::positive());
     ob.half_length = r.number("length", Range::positive()) / 2.0;
-  } else {
+  } else if (kind == "plane") {
     ob.kind = ObstacleKind::Plane;
     ob.center = r.vec3("point");
     ob.axis = unit_vector(r, "normal");
+  } else {
+    ob.kind = ObstacleKind::Mesh;
+    ObstacleMeshSpec spec;
+    spec.obstacle = scene.obstacles.size();
+    spec.path = r.path();
+    const std::string file = r.string("file");
+    if (file.empty()) throw InputError(r.path_of("file") + ": must not be empty");
+    spec.file = resolve_scene_file(file, scene.file);
+    if (r.has("transform")) spec.transform = parse_transform(r.object("transform"));
+    scene.obstacle_meshes.push_back(spec);
   }
   ob.friction = r.number("friction", 0.0, Range::non_negative());
-  if (r.has("motion")) ob.motion = parse_motion(r.object("motion"));
+  ob.thickness = r.number("thickness", 0.0, Range::between(0.0, 1.0));
+  if (r.has("motion")) ob.motion = parse_motion(r.object("motion"), kind == "mesh");
   r.finish();
   wrapper.finish();
   return ob;
 }
 
 }  // namespace
+
+std::string resolve_scene_file(const std::string& name, const std::string& scene_file) {
+  namespace fs = std::filesystem;
+  fs::path beside(name);
+  if (beside.is_relative() && !scene_file.empty()) beside = fs::path(scene_file).parent_path() / beside;
+  beside = beside.lexically_normal();
+  if (fs::path(name).is_absolute() || fs::exists(beside)) return beside.string();
+  for (const std::string& dir : {executable_dir() + "/data", std::string(TISSU_DATA_DIR)}) {
+    if (dir.empty() || dir == "/data") continue;
+    const fs::path candidate = (fs::path(dir) / name).lexically_normal();
+    if (fs::exists(candidate)) return candidate.string();
+  }
+  return beside.string();
+}
 
 Scene parse_scene(const Json& doc, const std::string& file) {
   JsonReader root(doc, "");
@@ -299,8 +372,16 @@ Scene parse_scene(const Json& doc, const std::string& file) {
     const Json& list = root.raw("obstacles");
     if (!list.is_array()) throw InputError("obstacles: must be an array");
     for (size_t i = 0; i < list.size(); ++i) {
-      scene.obstacles.push_back(parse_obstacle(list[i], element_path("obstacles", i)));
+      scene.obstacles.push_back(parse_obstacle(list[i], element_path("obstacles", i), scene));
     }
+  }
+  if (root.has("self_collision")) {
+    JsonReader sc = root.object("self_collision");
+    SelfCollision self;
+    self.thickness = sc.number("thickness", Range{0.0, 1.0, true, false});
+    self.friction = sc.number("friction", 0.0, Range::non_negative());
+    sc.finish();
+    scene.self_collision = self;
   }
   if (root.has("render")) scene.render = root.raw("render");
   root.accept("render");
@@ -309,6 +390,7 @@ Scene parse_scene(const Json& doc, const std::string& file) {
   root.accept("wind");
   root.accept("position_correction");
   root.accept("obstacles");
+  root.accept("self_collision");
   root.accept("implicit");
   root.finish();
   return scene;

@@ -118,7 +118,8 @@ TEST(SceneValidation, ObstacleWithNonPositiveSize) {
                                                    "radius": 1, "length": 1}}])");
   EXPECT_EQ(parse_error(doc), "obstacles[0].cylinder.axis: must not be the zero vector");
   doc["obstacles"] = Json::parse(R"([{"cube": {}}])");
-  EXPECT_EQ(parse_error(doc), "obstacles[0].cube: unknown obstacle; expected sphere, cylinder or plane");
+  EXPECT_EQ(parse_error(doc),
+            "obstacles[0].cube: unknown obstacle; expected sphere, cylinder, plane or mesh");
 }
 
 TEST(SceneValidation, NonFiniteValues) {
@@ -217,6 +218,63 @@ TEST_F(SceneFiles, MeshFileRelativeToScene) {
   const Scene s = load_scene(path);
   EXPECT_EQ(s.mesh.file, (dir_ / "meshes/missing.obj").string());
   EXPECT_NE(error_of([&] { build_simulation(s); }).find("missing.obj"), std::string::npos);
+}
+
+TEST(SceneValidation, SelfCollisionAndKeyframes) {
+  Json doc = valid();
+  doc["self_collision"] = Json::parse(R"({"thickness": 0.003, "friction": 0.2})");
+  const Scene s = parse_scene(doc, "");
+  ASSERT_TRUE(s.self_collision.has_value());
+  EXPECT_DOUBLE_EQ(s.self_collision->thickness, 0.003);
+  EXPECT_DOUBLE_EQ(s.self_collision->friction, 0.2);
+  EXPECT_TRUE(build_simulation(s).model.self_collision.has_value());
+  doc["self_collision"] = Json::parse(R"({"thickness": 0})");
+  EXPECT_EQ(parse_error(doc), "self_collision.thickness: must be in (0, 1], got 0");
+  doc.erase("self_collision");
+  doc["obstacles"] = Json::parse(R"([{"sphere": {"center": [0, 0, 0], "radius": 1,
+      "motion": {"keyframes": [{"time": 0}, {"time": 1, "translate": [1, 0, 0]}]}}}])");
+  EXPECT_EQ(parse_scene(doc, "").obstacles[0].motion.keyframes.size(), 2u);
+  doc["obstacles"][0]["sphere"]["motion"]["keyframes"][1]["time"] = 0;
+  EXPECT_EQ(parse_error(doc), "obstacles[0].sphere.motion.keyframes[1].time: keyframe times must "
+                              "increase, got 0 after 0");
+  doc["obstacles"][0]["sphere"]["motion"]["keyframes"][1] =
+      Json::parse(R"({"time": 2, "rotate": {"axis": [0, 0, 1], "degrees": 90}})");
+  EXPECT_EQ(parse_error(doc), "obstacles[0].sphere.motion.keyframes[1].rotate: only mesh obstacles "
+                              "turn; spheres, cylinders and planes translate");
+}
+
+// A tetrahedron as an OFF file, and variants that are not closed or not manifold.
+const char kTetrahedron[] = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                            "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+
+TEST_F(SceneFiles, MeshObstaclesAreReadPlacedAndChecked) {
+  write("tet.off", kTetrahedron);
+  write("open.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n");
+  Json doc = valid();
+  doc["obstacles"] = Json::parse(R"([{"mesh": {"file": "tet.off", "friction": 0.4,
+      "thickness": 0.002, "transform": {"scale": 2, "translate": [0, 0, -3]}}}])");
+  const std::string path = write("mesh.json", doc.dump());
+  const Simulation sim = build_simulation(load_scene(path));
+  const Obstacle& ob = sim.model.obstacles[0];
+  ASSERT_EQ(ob.kind, ObstacleKind::Mesh);
+  EXPECT_DOUBLE_EQ(ob.friction, 0.4);
+  EXPECT_DOUBLE_EQ(ob.thickness, 0.002);
+  EXPECT_TRUE(ob.center.isApprox(Vec3(1, 1, -2)));  // the centre of the placed bounds
+  Vec3 n;
+  EXPECT_NEAR(ob.signed_distance(Vec3(0.2, 0.2, -3.5), 0.0, &n), 0.5, 1e-12);
+  EXPECT_TRUE(n.isApprox(Vec3(0, 0, -1)));
+
+  doc["obstacles"][0]["mesh"]["file"] = "open.off";
+  const std::string open = write("open.json", doc.dump());
+  EXPECT_EQ(error_of([&] { build_simulation(load_scene(open)); }),
+            open + ": obstacles[0].mesh.file: " + (dir_ / "open.off").string() +
+                ": not closed: the edge between vertex ids 1 and 2 borders only mesh 0, face 0 "
+                "(mesh obstacles must be closed surfaces)");
+  doc["obstacles"][0]["mesh"]["file"] = "nowhere.off";
+  const std::string missing = write("missing.json", doc.dump());
+  EXPECT_EQ(error_of([&] { build_simulation(load_scene(missing)); }),
+            missing + ": obstacles[0].mesh.file: " + (dir_ / "nowhere.off").string() +
+                ": cannot open: No such file or directory");
 }
 
 }  // namespace
