@@ -10,7 +10,7 @@ namespace tissu {
 
 // `ob` at time t, drawn `inset` m inside its surface (radius and half length shrink by
 // it; cloth resting on the obstacle would otherwise be cut by its tessellation). Planes
-// are drawn 2 mm below their surface.
+// are drawn 2 mm below their surface, meshes as they are (no tessellation to hide).
 ObstacleShape drawn_obstacle(const Obstacle& ob, double t, double inset);
 
 }  // namespace tissu

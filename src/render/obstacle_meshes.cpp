@@ -84,6 +84,36 @@ IndexedMesh unit_square() {
   return mesh;
 }
 
+IndexedMesh surface_mesh(const Vec3List& vertices, const TriList& triangles) {
+  // Angle-weighted vertex normals; a corner whose face turns more than 40 degrees away
+  // from its vertex's normal (a crease) keeps the face's own normal.
+  std::vector<Vec3> face(triangles.size());
+  Vec3List smooth(vertices.size(), Vec3::Zero());
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    const Tri& tri = triangles[t];
+    face[t] = (vertices[tri[1]] - vertices[tri[0]]).cross(vertices[tri[2]] - vertices[tri[0]]).normalized();
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e1 = vertices[tri[(k + 1) % 3]] - vertices[tri[k]];
+      const Vec3 e2 = vertices[tri[(k + 2) % 3]] - vertices[tri[k]];
+      smooth[tri[k]] += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * face[t];
+    }
+  }
+  for (Vec3& n : smooth) n.normalize();
+  const double crease = std::cos(40.0 * M_PI / 180.0);
+  IndexedMesh mesh;
+  mesh.vertices.reserve(3 * triangles.size());
+  mesh.indices.reserve(3 * triangles.size());
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = triangles[t][k];
+      const Vec3& n = smooth[v].dot(face[t]) >= crease ? smooth[v] : face[t];
+      mesh.indices.push_back(static_cast<uint32_t>(mesh.vertices.size()));
+      mesh.vertices.push_back({to_glm(vertices[v]), to_glm(n), glm::vec2(0.0f)});
+    }
+  }
+  return mesh;
+}
+
 glm::mat4 obstacle_model(const ObstacleShape& shape, const glm::vec3& plane_focus,
                          float plane_half_size) {
   const glm::vec3 center = to_glm(shape.center);
@@ -95,6 +125,14 @@ glm::mat4 obstacle_model(const ObstacleShape& shape, const glm::vec3& plane_focu
       const glm::mat4 rotation(rotation_from_z(to_glm(shape.axis)));
       return glm::scale(glm::translate(glm::mat4(1.0f), center) * rotation,
                         glm::vec3(r, r, static_cast<float>(shape.half_length)));
+    }
+    case ObstacleShape::Kind::Mesh: {
+      glm::mat4 rotation(1.0f);
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) rotation[j][i] = static_cast<float>(shape.rotation(i, j));
+      }
+      return glm::translate(glm::mat4(1.0f), center) * rotation *
+             glm::translate(glm::mat4(1.0f), -to_glm(shape.pivot));
     }
     case ObstacleShape::Kind::Plane:
     default: {

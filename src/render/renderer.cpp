@@ -3,6 +3,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include <cmath>
+#include <map>
 
 #include "render/cloth_geometry.h"
 #include "render/ground_geometry.h"
@@ -141,6 +142,7 @@ struct Renderer::Impl {
   void draw_cloth();
   const ObstacleShape* plane_merged_into_ground(const FrameContent& content) const;
   const MeshBuffer& sphere_for_view(const ObstacleShape& shape) const;
+  const MeshBuffer& buffer_of(const ObstacleShape& shape);
 
   double aspect() const { return static_cast<double>(settings.width) / settings.height; }
   // Half size of the squares that stand for planes: well past the framed scene.
@@ -166,6 +168,8 @@ struct Renderer::Impl {
   Box3 casters;  // bounds of what casts the ground shadow this frame
   std::vector<glm::vec4> ground_outline;  // clip space, this frame
   ClothBuffer cloth_mesh;
+  // Mesh obstacles' surfaces, uploaded once (the key keeps the surface alive).
+  std::map<std::shared_ptr<const Vec3List>, std::unique_ptr<MeshBuffer>> surfaces;
   std::unique_ptr<ShadowMap> shadow_map;
   std::optional<Camera> camera;
   // Reused between frames.
@@ -303,7 +307,7 @@ void Renderer::Impl::draw_shadow_map(const FrameContent& content, const Box3& ca
   for (const ObstacleShape& o : content.obstacles) {
     if (o.kind == ObstacleShape::Kind::Plane) continue;
     shadow.set("u_model", obstacle_model(o, glm::vec3(0.0f), 0.0f));
-    (o.kind == ObstacleShape::Kind::Sphere ? sphere : cylinder).draw();
+    buffer_of(o).draw();
   }
   glDisable(GL_CULL_FACE);
   glDisable(GL_POLYGON_OFFSET_FILL);
@@ -454,9 +458,21 @@ void Renderer::Impl::draw_solids(const FrameContent& content) {
     const glm::mat4 model = obstacle_model(o, glm::vec3(0.0f), 0.0f);
     solid.set("u_model", model);
     solid.set("u_normal_matrix", glm::inverseTranspose(glm::mat3(model)));
-    (o.kind == ObstacleShape::Kind::Sphere ? sphere_for_view(o) : cylinder).draw();
+    (o.kind == ObstacleShape::Kind::Sphere ? sphere_for_view(o) : buffer_of(o)).draw();
   }
   glDisable(GL_CULL_FACE);
+}
+
+// The shape's own geometry: the unit sphere or cylinder, or the mesh's surface.
+const MeshBuffer& Renderer::Impl::buffer_of(const ObstacleShape& shape) {
+  if (shape.kind == ObstacleShape::Kind::Sphere) return sphere;
+  if (shape.kind != ObstacleShape::Kind::Mesh) return cylinder;
+  std::unique_ptr<MeshBuffer>& buffer = surfaces[shape.mesh_vertices];
+  if (!buffer) {
+    buffer = std::make_unique<MeshBuffer>();
+    buffer->upload(surface_mesh(*shape.mesh_vertices, *shape.mesh_triangles));
+  }
+  return *buffer;
 }
 
 // The coarser sphere when its outline, seen from the camera, would be at most

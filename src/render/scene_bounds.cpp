@@ -22,6 +22,10 @@ Box3 content_bounds(const FrameContent& content) {
         box.extend(c - disc);
         box.extend(c + disc);
       }
+    } else if (o.kind == ObstacleShape::Kind::Mesh && !o.mesh_bounds.isEmpty()) {
+      for (const Vec3& corner : box_corners(o.mesh_bounds)) {
+        box.extend(o.center + o.rotation * (corner - o.pivot));
+      }
     }
   }
   return box;
