@@ -15,7 +15,7 @@ namespace {
 
 const char* kRunHelp =
     "usage: tissu run SCENE.json [--out DIR] [--set KEY=VALUE]... [--obj-every N]\n"
-    "                 [--threads N] [--report FILE] [--quiet]\n"
+    "                 [--threads N] [--report FILE] [--check] [--quiet]\n"
     "Simulates a scene and writes DIR/report.json (and OBJ snapshots on request).\n"
     "  --out DIR          output directory (default out/<scene name>)\n"
     "  --set KEY=VALUE    override a scene value by dotted path, e.g. --set dt=1e-4,\n"
@@ -25,13 +25,16 @@ const char* kRunHelp =
     "                     at most one per 2000 triangles); the results are the same bits\n"
     "                     for any N\n"
     "  --report FILE      report path (default DIR/report.json)\n"
+    "  --check            check every recorded frame exactly for cloth triangles that\n"
+    "                     cross each other or a mesh obstacle (report: crossings)\n"
     "  --quiet            no progress output\n"
-    "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 130 interrupted.\n";
+    "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 4 --check found\n"
+    "crossings, 130 interrupted.\n";
 
 const char* kRenderHelp =
     "usage: tissu render SCENE.json [--out DIR] [--set KEY=VALUE]... [--png] [--no-mp4]\n"
     "                    [--frames N] [--stills N] [--obj-every N] [--threads N]\n"
-    "                    [--report FILE] [--quiet]\n"
+    "                    [--report FILE] [--check] [--quiet]\n"
     "Simulates a scene, renders every frame off screen and writes DIR/<name>.mp4\n"
     "(H.264, yuv420p, fps and slow motion from the scene's render block).\n"
     "  --png              also write DIR/png/frame_NNNNNN.png for every frame\n"
@@ -39,7 +42,8 @@ const char* kRenderHelp =
     "  --frames N         stop after N frames\n"
     "  --stills N         write N PNG stills spread over the run to DIR/stills/\n"
     "  (other options as for tissu run)\n"
-    "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 130 interrupted.\n";
+    "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 4 --check found\n"
+    "crossings, 130 interrupted.\n";
 
 long long parse_count(const std::string& option, const std::string& text, long long min,
                       long long max = std::numeric_limits<long long>::max()) {
@@ -104,6 +108,8 @@ bool parse_scene_command(const std::vector<std::string>& args, bool render,
           out.report_path = value();
         } else if (a == "--quiet") {
           out.quiet = true;
+        } else if (a == "--check") {
+          out.check = true;
         } else if (render && a == "--png") {
           out.png = true;
         } else if (render && a == "--no-mp4") {

@@ -30,6 +30,7 @@ struct SceneCommandOptions {
   int obj_every = 0;
   int threads = 0;  // simulation threads; 0 = the processors available
   bool quiet = false;
+  bool check = false;  // exact crossing check of every recorded frame
   // render-only options
   bool png = false;
   bool mp4 = true;

@@ -18,6 +18,7 @@ constexpr int kExitOk = 0;
 constexpr int kExitOutputError = 1;
 constexpr int kExitBadInput = 2;
 constexpr int kExitDiverged = 3;
+constexpr int kExitCrossings = 4;  // --check found triangles that cross
 constexpr int kExitInterrupted = 130;
 
 }  // namespace tissu

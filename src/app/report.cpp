@@ -3,7 +3,10 @@
 #include <cerrno>
 #include <cstdio>
 
+#include <algorithm>
+
 #include "core/error.h"
+#include "physics/cloth_contact.h"
 #include "video/partial_file.h"
 
 namespace tissu {
@@ -54,10 +57,44 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
     report["newton_iterations"] = result.newton_iterations;
     report["cg_iterations"] = result.cg_iterations;
   }
+  if (needs_cloth_contact(model)) {
+    const double steps = std::max<double>(1.0, static_cast<double>(result.steps_done));
+    report["contact"] = {{"cpu_s", result.contact_seconds},
+                         {"ms_per_step", 1e3 * result.contact_seconds / steps},
+                         {"impacts", result.contact_impacts},
+                         {"list_rebuilds", result.contact_rebuilds},
+                         {"impact_zones", result.contact_zones},
+                         {"rigid_zones", result.contact_rigid_zones},
+                         {"unresolved_impacts", result.contact_unresolved}};
+  }
+  if (!result.checks.empty()) {
+    size_t dirty = 0;
+    const FrameCheck* first = nullptr;
+    for (const FrameCheck& c : result.checks) {
+      if (c.clean()) continue;
+      ++dirty;
+      if (!first) first = &c;
+    }
+    nlohmann::ordered_json check = {{"frames_checked", result.checks.size()},
+                                    {"frames_with_crossings", dirty}};
+    check["first"] = first ? nlohmann::ordered_json{{"step", first->step},
+                                                    {"time", first->time},
+                                                    {"cloth_pairs", first->cloth_pairs},
+                                                    {"obstacle_pairs", first->obstacle_pairs},
+                                                    {"what", first->first}}
+                           : nlohmann::ordered_json(nullptr);
+    report["check"] = check;
+  }
   report["units"] = {{"time", "s"}, {"energy", "J"}, {"speed", "m/s"},
                      {"strain", "Green strain"}, {"clearance", "m"}};
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (const FrameStats& f : result.frames) rows.push_back(frame_row(f));
+  for (size_t i = 0; i < result.frames.size(); ++i) {
+    nlohmann::ordered_json row = frame_row(result.frames[i]);
+    if (i < result.checks.size()) {
+      row["crossings"] = result.checks[i].cloth_pairs + result.checks[i].obstacle_pairs;
+    }
+    rows.push_back(row);
+  }
   report["frames"] = rows;
   return report;
 }

@@ -54,6 +54,7 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
   auto emit_frame = [&] {
     const FrameStats stats = measure_frame(model, state);
     result.frames.push_back(stats);
+    if (options.check) result.checks.push_back(check_frame(model, state));
     last_frame_x = state.x;
     if (sink) sink->frame(model, state, stats);
   };
@@ -75,6 +76,12 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
     result.times.simulate += seconds_since(t0);
     result.newton_iterations += ws.newton_iterations;
     result.cg_iterations += ws.cg_iterations;
+    result.contact_seconds += ws.contact_seconds;
+    result.contact_impacts += ws.contact.impacts;
+    result.contact_rebuilds += ws.contact.rebuilt ? 1 : 0;
+    result.contact_zones += ws.contact.zones;
+    result.contact_rigid_zones += ws.contact.rigid_zones;
+    result.contact_unresolved += ws.contact.unresolved;
     result.steps_done = s + 1;
     if (divergence) {
       result.status = RunStatus::Diverged;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/frame_check.h"
 #include "physics/diagnostics.h"
 #include "physics/step.h"
 #include "scene/scene.h"
@@ -40,6 +41,7 @@ struct RunOptions {
   std::string obj_dir;        // "" = no OBJ output
   int threads = 1;            // threads for each step (same results for any count)
   bool progress = true;       // progress line on stderr
+  bool check = false;         // exact crossing check of every frame (frame_check.h)
   std::string progress_label = "simulate";
 };
 
@@ -52,6 +54,12 @@ struct RunResult {
   int threads = 1;            // threads the steps used (force_threads of the request)
   int newton_iterations = 0;  // totals over the run (implicit integrators)
   long long cg_iterations = 0;
+  // The collision stage (physics/cloth_contact.h), when the scene has one: processor
+  // time and totals over the run.
+  double contact_seconds = 0.0;
+  long long contact_impacts = 0, contact_rebuilds = 0, contact_zones = 0,
+            contact_rigid_zones = 0, contact_unresolved = 0;
+  std::vector<FrameCheck> checks;  // with RunOptions::check, one per frame
 };
 
 RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& options,

@@ -21,7 +21,11 @@ namespace fs = std::filesystem;
 
 int exit_code_of(const RunResult& result) {
   switch (result.status) {
-    case RunStatus::Ok: return kExitOk;
+    case RunStatus::Ok:
+      for (const FrameCheck& c : result.checks) {
+        if (!c.clean()) return kExitCrossings;
+      }
+      return kExitOk;
     case RunStatus::Diverged: return kExitDiverged;
     case RunStatus::Interrupted: return kExitInterrupted;
   }
@@ -36,6 +40,19 @@ void print_summary(const Scene& scene, const RunResult& result) {
   } else if (result.status == RunStatus::Interrupted) {
     std::cerr << "tissu: " << scene.name << ": interrupted after " << result.steps_done
               << " steps\n";
+  }
+  if (!result.checks.empty()) {
+    size_t dirty = 0;
+    const FrameCheck* first = nullptr;
+    for (const FrameCheck& c : result.checks) {
+      if (c.clean()) continue;
+      ++dirty;
+      if (!first) first = &c;
+    }
+    std::cerr << "tissu: " << scene.name << ": check: " << dirty << " of " << result.checks.size()
+              << " frames have crossing triangles";
+    if (first) std::cerr << "; first at step " << first->step << " (t = " << first->time << " s): " << first->first;
+    std::cerr << "\n";
   }
 }
 
@@ -64,6 +81,7 @@ int run_scene(const std::vector<std::string>& args, bool render) {
   run.threads = std::min(options.threads > 0 ? options.threads : kMaxThreads,
                          available_processors());
   run.progress = !options.quiet;
+  run.check = options.check;
   run.progress_label = render ? "render" : "simulate";
 
   std::unique_ptr<RenderSink> sink;
