@@ -20,8 +20,9 @@ using Box3 = Eigen::AlignedBox3d;
 
 class Bvh {
  public:
-  // Builds the tree over primitives 0 .. boxes.size()-1.
-  void build(const std::vector<Box3>& boxes);
+  // Builds the tree over primitives 0 .. boxes.size()-1, at most `leaf_size` (1..7) per
+  // leaf: 2 suits nearest-point queries, more suits overlap queries of many boxes.
+  void build(const std::vector<Box3>& boxes, int leaf_size = 2);
   // New boxes for the same primitives; the tree keeps its shape.
   void refit(const std::vector<Box3>& boxes);
 
@@ -53,19 +54,32 @@ class Bvh {
 
  private:
   friend class WideBvh;
-  // A child reference: >= 0 an inner node; < 0 a leaf, ~(first * 4 + count) with `count`
+  // A child reference: >= 0 an inner node; < 0 a leaf, ~(first * 8 + count) with `count`
   // primitives at order_[first ...].
   struct Node {
     float lo[2][3];  // children's boxes, rounded outward, m
     float hi[2][3];
     int child[2];
   };
+  // A box in single precision (node boxes).
+  struct FloatBox {
+    float lo[3], hi[3];
+    static FloatBox of(const Node& n, int k) {
+      return {{n.lo[k][0], n.lo[k][1], n.lo[k][2]}, {n.hi[k][0], n.hi[k][1], n.hi[k][2]}};
+    }
+    bool overlaps(const FloatBox& o) const {
+      return lo[0] <= o.hi[0] && o.lo[0] <= hi[0] && lo[1] <= o.hi[1] && o.lo[1] <= hi[1] &&
+             lo[2] <= o.hi[2] && o.lo[2] <= hi[2];
+    }
+    float extent() const { return (hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]); }
+  };
+  FloatBox subtree_box(int ref) const;  // the root's (ref == root_) or a leaf's, rounded outward
   static bool is_leaf(int ref) { return ref < 0; }
-  static int leaf_first(int ref) { return (~ref) >> 2; }
-  static int leaf_count(int ref) { return (~ref) & 3; }
+  static int leaf_first(int ref) { return (~ref) >> 3; }
+  static int leaf_count(int ref) { return (~ref) & 7; }
 
   int build_node(std::vector<int>& ids, const std::vector<Vec3>& centres,
-                 const std::vector<Box3>& boxes, int begin, int end, Box3* box);
+                 const std::vector<Box3>& boxes, int begin, int end, Box3* box, int leaf_size);
   Box3 refit_node(int ref);
   void set_child_box(Node& node, int k, const Box3& box);
   static double box_distance2(const Node& node, int k, const Vec3& p);
@@ -78,8 +92,8 @@ class Bvh {
   template <class Visit>
   void self_pairs(int ref, Visit& visit) const;
   template <class Visit>
-  void cross_pairs(const Bvh& a, int ra, const Box3& ba, const Bvh& b, int rb, const Box3& bb,
-                   Visit& visit) const;
+  void cross_pairs(const Bvh& a, int ra, const FloatBox& box_a, const Bvh& b, int rb,
+                   const FloatBox& box_b, Visit& visit) const;
 
   std::vector<Node> nodes_;
   int root_ = 0;                  // child reference of the whole tree
@@ -160,42 +174,57 @@ void Bvh::self_pairs(int ref, Visit& visit) const {
   self_pairs(node.child[0], visit);
   self_pairs(node.child[1], visit);
   if (boxes_overlap(node, 0, node, 1)) {
-    cross_pairs(*this, node.child[0], child_box(node, 0), *this, node.child[1],
-                child_box(node, 1), visit);
+    cross_pairs(*this, node.child[0], FloatBox::of(node, 0), *this, node.child[1],
+                FloatBox::of(node, 1), visit);
   }
 }
 
 template <class Visit>
 void Bvh::for_each_overlap_with(const Bvh& other, Visit&& visit) const {
   if (order_.empty() || other.order_.empty() || !bounds_.intersects(other.bounds_)) return;
-  cross_pairs(*this, root_, bounds_, other, other.root_, other.bounds_, visit);
+  cross_pairs(*this, root_, subtree_box(root_), other, other.root_,
+              other.subtree_box(other.root_), visit);
 }
 
-// Pairs between subtree ra of a (box ba) and subtree rb of b (box bb); the boxes overlap.
+// Pairs between subtree ra of a and subtree rb of b, whose boxes overlap. An explicit
+// stack of subtree pairs with their boxes (single precision, rounded outward); leaf
+// primitives are compared in double precision.
 template <class Visit>
-void Bvh::cross_pairs(const Bvh& a, int ra, const Box3& ba, const Bvh& b, int rb,
-                      const Box3& bb, Visit& visit) const {
-  if (is_leaf(ra) && is_leaf(rb)) {
-    for (int i = leaf_first(ra); i < leaf_first(ra) + leaf_count(ra); ++i) {
-      for (int j = leaf_first(rb); j < leaf_first(rb) + leaf_count(rb); ++j) {
-        if (a.leaf_boxes_[i].intersects(b.leaf_boxes_[j])) visit(a.order_[i], b.order_[j]);
+void Bvh::cross_pairs(const Bvh& a, int ra, const FloatBox& box_a, const Bvh& b, int rb,
+                      const FloatBox& box_b, Visit& visit) const {
+  struct Task {
+    int ra, rb;
+    FloatBox ba, bb;
+  };
+  thread_local std::vector<Task> stack;
+  const size_t bottom = stack.size();  // the stack may be in use further up (nested calls)
+  stack.push_back({ra, rb, box_a, box_b});
+  while (stack.size() > bottom) {
+    const Task t = stack.back();
+    stack.pop_back();
+    const bool leaf_a = is_leaf(t.ra), leaf_b = is_leaf(t.rb);
+    if (leaf_a && leaf_b) {
+      for (int i = leaf_first(t.ra); i < leaf_first(t.ra) + leaf_count(t.ra); ++i) {
+        for (int j = leaf_first(t.rb); j < leaf_first(t.rb) + leaf_count(t.rb); ++j) {
+          if (a.leaf_boxes_[i].intersects(b.leaf_boxes_[j])) visit(a.order_[i], b.order_[j]);
+        }
       }
+      continue;
     }
-    return;
-  }
-  // Descend into the inner node with the larger box (or the only inner one).
-  const bool split_a = is_leaf(rb) || (!is_leaf(ra) && ba.sizes().sum() >= bb.sizes().sum());
-  if (split_a) {
-    const Node& node = a.nodes_[ra];
-    for (int k = 0; k < 2; ++k) {
-      const Box3 child = a.child_box(node, k);
-      if (child.intersects(bb)) cross_pairs(a, node.child[k], child, b, rb, bb, visit);
-    }
-  } else {
-    const Node& node = b.nodes_[rb];
-    for (int k = 0; k < 2; ++k) {
-      const Box3 child = b.child_box(node, k);
-      if (child.intersects(ba)) cross_pairs(a, ra, ba, b, node.child[k], child, visit);
+    // Open the inner node with the larger box (or the only inner one).
+    const bool open_a = leaf_b || (!leaf_a && t.ba.extent() >= t.bb.extent());
+    if (open_a) {
+      const Node& n = a.nodes_[t.ra];
+      for (int k = 1; k >= 0; --k) {
+        const FloatBox child = FloatBox::of(n, k);
+        if (child.overlaps(t.bb)) stack.push_back({n.child[k], t.rb, child, t.bb});
+      }
+    } else {
+      const Node& n = b.nodes_[t.rb];
+      for (int k = 1; k >= 0; --k) {
+        const FloatBox child = FloatBox::of(n, k);
+        if (child.overlaps(t.ba)) stack.push_back({t.ra, n.child[k], t.ba, child});
+      }
     }
   }
 }

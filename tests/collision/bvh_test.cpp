@@ -35,10 +35,12 @@ TEST(Bvh, OverlapsMatchBruteForce) {
   }
 }
 
-TEST(Bvh, SelfAndCrossPairsMatchBruteForceAfterRefit) {
+class BvhLeaves : public ::testing::TestWithParam<int> {};
+
+TEST_P(BvhLeaves, SelfAndCrossPairsMatchBruteForceAfterRefit) {
   std::vector<Box3> boxes = random_boxes(500, 3);
   Bvh tree;
-  tree.build(boxes);
+  tree.build(boxes, GetParam());
   // Move every box: refit keeps the answers exact.
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> shift(-1, 1);
@@ -58,7 +60,7 @@ TEST(Bvh, SelfAndCrossPairsMatchBruteForceAfterRefit) {
 
   const std::vector<Box3> others = random_boxes(300, 5);
   Bvh other;
-  other.build(others);
+  other.build(others, 7 - GetParam());
   std::set<std::pair<int, int>> cross, cross_expected;
   tree.for_each_overlap_with(other, [&](int i, int j) { EXPECT_TRUE(cross.insert({i, j}).second); });
   for (int i = 0; i < 500; ++i) {
@@ -68,6 +70,8 @@ TEST(Bvh, SelfAndCrossPairsMatchBruteForceAfterRefit) {
   }
   EXPECT_EQ(cross, cross_expected);
 }
+
+INSTANTIATE_TEST_SUITE_P(LeafSizes, BvhLeaves, ::testing::Values(1, 2, 3, 6));
 
 TEST(Bvh, NearestMatchesBruteForce) {
   const std::vector<Box3> boxes = random_boxes(400, 6);
