@@ -183,7 +183,6 @@ void ClosedSurface::compute_normals() {
       pair[pair[0] < 0 ? 0 : 1] = static_cast<int>(t);
     }
   }
-  std::vector<char> sharp_vertex(vertices_.size(), 0);
   const double cos_sharp = std::cos(kSharpAngle);
   for (size_t e = 0; e < edges_.size(); ++e) {
     const int t0 = edge_triangles[e][0], t1 = edge_triangles[e][1];
@@ -195,10 +194,6 @@ void ClosedSurface::compute_normals() {
     }
     if ((vertices_[opposite] - vertices_[edges_[e][0]]).dot(face_normals_[t0]) >= 0.0) continue;
     sharp_edges_.push_back(static_cast<int>(e));
-    sharp_vertex[edges_[e][0]] = sharp_vertex[edges_[e][1]] = 1;
-  }
-  for (size_t v = 0; v < vertices_.size(); ++v) {
-    if (sharp_vertex[v]) sharp_vertices_.push_back(static_cast<int>(v));
   }
 }
 

@@ -58,11 +58,9 @@ class ClosedSurface {
   const std::vector<std::array<int, 2>>& edges() const { return edges_; }  // (E) vertex ids
   const std::vector<std::array<int, 3>>& triangle_edges() const { return triangle_edges_; }
   const Vec3List& face_normals() const { return face_normals_; }  // (T) unit
-  // Edges whose two triangles meet at a convex angle with normals more than
-  // kSharpAngle apart, and vertices on such edges: where cloth drawn across the surface
-  // could be cut between its vertices (cloth_contact.h).
+  // Edges whose two triangles meet at a convex angle with normals more than kSharpAngle
+  // apart (a table's edges, not a body's gentle curves).
   const std::vector<int>& sharp_edges() const { return sharp_edges_; }
-  const std::vector<int>& sharp_vertices() const { return sharp_vertices_; }
   const Bvh& tree() const { return tree_; }
   const Box3& bounds() const { return tree_.bounds(); }
   bool reversed() const { return reversed_; }
@@ -85,7 +83,7 @@ class ClosedSurface {
   Vec3List face_normals_;
   Vec3List edge_normals_;    // (E) pseudo-normals: sum of the two face normals
   Vec3List vertex_normals_;  // (V) angle-weighted pseudo-normals
-  std::vector<int> sharp_edges_, sharp_vertices_;
+  std::vector<int> sharp_edges_;
   Bvh tree_;
   WideBvh wide_{Bvh()};  // tree_ collapsed for closest-point queries
   bool reversed_ = false;

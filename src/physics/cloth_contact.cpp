@@ -560,8 +560,8 @@ void ClothContact::Impl::add_mesh_pairs(MeshFeatures& f, double thickness) {
           false, false);
     });
   }
-  if (s.sharp_edges().empty()) return;
-  // Sharp vertices against cloth triangles, sharp edges against cloth edges. The cloth's
+  // The surface's vertices against cloth triangles, its edges against cloth edges (those
+  // near the cloth). The cloth's
   // trees hold its regions (grown by half its own thickness when self-collision built
   // them); query with the features' boxes grown by the rest.
   std::vector<Box3> tri_boxes(m.triangles.size());
@@ -583,7 +583,7 @@ void ClothContact::Impl::add_mesh_pairs(MeshFeatures& f, double thickness) {
   cloth_edges.build(edge_boxes);
   const Box3 cloth = cloth_triangles.bounds();
   const Vec3 pad = Vec3::Constant(reach);
-  for (int vertex : s.sharp_vertices()) {
+  for (int vertex = 0; vertex < static_cast<int>(s.vertices().size()); ++vertex) {
     const Vec3 p = world_of(vertex);
     if (cloth.exteriorDistance(p) > reach) continue;
     cloth_triangles.for_each_overlap(Box3(p - pad, p + pad), [&](int t) {
@@ -591,7 +591,7 @@ void ClothContact::Impl::add_mesh_pairs(MeshFeatures& f, double thickness) {
       add({kinematic_point(f, mesh_index, vertex), tri[0], tri[1], tri[2]}, false, true);
     });
   }
-  for (int e : s.sharp_edges()) {
+  for (int e = 0; e < static_cast<int>(s.edges().size()); ++e) {
     const auto& edge = s.edges()[e];
     const Vec3 a = world_of(edge[0]), b = world_of(edge[1]);
     Box3 box(a);

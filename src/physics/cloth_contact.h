@@ -1,9 +1,10 @@
 // The collision stage around the integrator: everything that is not one cloth vertex
 // against an obstacle's surface (that is the obstacle query of step.cpp and contact.cpp).
 //   - cloth against itself: vertex-triangle and edge-edge pairs;
-//   - cloth against a mesh obstacle's own features: its sharp vertices against cloth
-//     triangles and its sharp edges against cloth edges (so cloth drawn across a table's
-//     edge is neither cut by it nor caught on it), and cloth vertices against its
+//   - cloth against a mesh obstacle's own features: its vertices against cloth triangles
+//     and its edges against cloth edges, with the obstacle's thickness (so neither a
+//     table's edge nor a head's curve, finer than the cloth's triangles, cuts through
+//     them, and cloth drawn across an edge slides over it), and cloth vertices against its
 //     triangles by continuous detection only (a fast vertex cannot pass through a thin
 //     part between two steps).
 // It runs after the integrator, on the step's start positions x0 and its end positions

@@ -67,30 +67,32 @@ void correct_position(const PositionCorrection& pc, double h, const Vec3& x_old,
 }
 
 // Signed distance (m) from p to a placed obstacle's surface and the outward normal, or
-// +infinity when p is outside a sphere (the common case, decided without a square root).
-double distance_if_inside(const PlacedObstacle& placed, const Vec3& p, Vec3* normal) {
+// +infinity when p is beyond a sphere's contact distance (the common case, decided
+// without a square root).
+double distance_if_near(const PlacedObstacle& placed, const Vec3& p, Vec3* normal) {
   const Obstacle& ob = *placed.obstacle;
-  if (ob.kind == ObstacleKind::Sphere &&
-      (p - placed.center).squaredNorm() >= ob.radius * ob.radius) {
+  const double reach = ob.radius + ob.thickness;
+  if (ob.kind == ObstacleKind::Sphere && (p - placed.center).squaredNorm() >= reach * reach) {
     return INFINITY;
   }
-  return ob.signed_distance_from(p, placed.center, normal, placed.rotation, 0.0);
+  return ob.signed_distance_from(p, placed.center, normal, placed.rotation, ob.thickness);
 }
 
-// Section 2.3 with the projection corrected (notes.md), for one vertex: inside an obstacle
-// it moves to the closest surface point; the inward normal velocity relative to the
-// obstacle is removed and Coulomb friction slows the tangential velocity by
-// mu * |removed normal part|. Overlapping obstacles: repeated until it is inside none.
+// Section 2.3 with the projection corrected (notes.md), for one vertex: closer to an
+// obstacle than its thickness, it moves out to that distance along the normal at the
+// closest surface point; the inward normal velocity relative to the obstacle's surface is
+// removed and Coulomb friction slows the tangential velocity by mu * |removed normal
+// part|. Overlapping obstacles: repeated until it is clear of all (at most four passes).
 void collide_vertex(const std::vector<PlacedObstacle>& obstacles, Vec3& x, Vec3& v) {
   constexpr int kPasses = 4;
   for (int pass = 0; pass < kPasses; ++pass) {
-    bool inside = false;
+    bool moved = false;
     for (const PlacedObstacle& placed : obstacles) {
       Vec3 n;
-      const double d = distance_if_inside(placed, x, &n);
-      if (d >= 0.0) continue;
-      inside = true;
-      x -= d * n;
+      const double shortfall = placed.obstacle->thickness - distance_if_near(placed, x, &n);
+      if (!(shortfall > 0.0)) continue;
+      moved = true;
+      x += shortfall * n;
       const Vec3 surface_velocity =
           placed.velocity + placed.angular_velocity.cross(x - placed.center);
       const Vec3 relative = v - surface_velocity;
@@ -102,7 +104,7 @@ void collide_vertex(const std::vector<PlacedObstacle>& obstacles, Vec3& x, Vec3&
       tangential = (vt <= slow) ? Vec3::Zero() : Vec3(tangential * (1.0 - slow / vt));
       v = surface_velocity + tangential;
     }
-    if (!inside) break;
+    if (!moved) break;
   }
 }
 

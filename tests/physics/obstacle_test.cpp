@@ -235,32 +235,37 @@ TEST(MeshObstacle, NoVertexInsideAMeshBox) {
 }
 
 // A sheet dropped on a sphere meshed with 5120 triangles ends like the one dropped on the
-// analytic sphere. Tolerance: the meshed surface lies between the sphere and its
-// sagitta (0.17 mm) inside it, so no vertex may end closer to the centre than R - sagitta.
-// The fold
-// pattern of a drape is a buckling that small changes decide: shrinking the analytic
-// sphere by the sagitta alone moves vertices by 1.6 cm on average (7 cm at most) and the
-// centroid height by 2.6 mm, so vertex positions cannot be compared; the drape's
-// centroid (within 1 cm, 1.7% of the sheet's size), the share of vertices touching the
-// sphere (within 3 points) and the reach of the hanging skirt (within 5 mm) can.
+// analytic sphere, both with a contact thickness of 3 mm. The analytic sphere meets cloth
+// vertices only, so the cloth's 3.75 cm triangles sag up to 1.2 mm towards it between
+// them; the meshed one also holds the triangles out of its vertices and edges, so the
+// cloth may rest up to that much higher. Tolerances:
+//   - no vertex closer to the centre than R + thickness - sagitta (0.17 mm): the meshed
+//     surface lies between the sphere and its sagitta inside it;
+//   - the fold pattern of a drape is a buckling that small changes decide (shrinking the
+//     analytic sphere by the sagitta moves vertices by 1.6 cm on average, 7 cm at most),
+//     so vertex positions are not compared; aggregate measures are, within twice how far
+//     they move on the analytic sphere when its thickness grows by 0.6 or 1.2 mm (up to
+//     the sag): centroid 6.3 mm -> 12 mm; share of vertices within 5.5 mm of the sphere
+//     5.2 points -> 10 points; mean horizontal distance from the axis 3.4 mm -> 7 mm.
 struct DrapeShape {
   Vec3 centroid = Vec3::Zero();
-  double touching = 0, skirt = 0, innermost = INFINITY;
+  double touching = 0, spread = 0, innermost = INFINITY;
 };
 
 DrapeShape shape_of(const DropResult& r, double radius) {
   DrapeShape d;
+  const double n = static_cast<double>(r.x.size());
   for (const Vec3& p : r.x) {
-    d.centroid += p / r.x.size();
-    d.touching += (p.norm() < radius + 1e-3) / double(r.x.size());
-    d.skirt = std::max(d.skirt, p.head<2>().norm());
+    d.centroid += p / n;
+    d.touching += (p.norm() < radius + 5.5e-3) / n;
+    d.spread += p.head<2>().norm() / n;
     d.innermost = std::min(d.innermost, p.norm());
   }
   return d;
 }
 
 TEST(MeshObstacle, FineSphereMatchesTheAnalyticSphere) {
-  constexpr double kRadius = 0.15;
+  constexpr double kRadius = 0.15, kThickness = 0.003;
   const testing::SurfaceData s = testing::icosphere(4, kRadius);
   double sagitta = 0;
   for (const Tri& t : s.triangles) {
@@ -268,14 +273,18 @@ TEST(MeshObstacle, FineSphereMatchesTheAnalyticSphere) {
     sagitta = std::max(sagitta, kRadius - c.norm());
   }
   ASSERT_LT(sagitta, 2e-4);
-  const DropResult analytic = drop_on(sphere(Vec3::Zero(), kRadius), 0.5, 0.3, 0.2);
-  const DropResult meshed = drop_on(mesh_obstacle(s), 0.5, 0.3, 0.2);
+  Obstacle analytic_sphere = sphere(Vec3::Zero(), kRadius), meshed_sphere = mesh_obstacle(s);
+  analytic_sphere.thickness = meshed_sphere.thickness = kThickness;
+  const DropResult analytic = drop_on(analytic_sphere, 0.5, 0.3, 0.2);
+  const DropResult meshed = drop_on(meshed_sphere, 0.5, 0.3, 0.2);
   EXPECT_GE(meshed.worst_clearance, -kInsideTolerance);
   const DrapeShape a = shape_of(analytic, kRadius), m = shape_of(meshed, kRadius);
-  EXPECT_GE(m.innermost, kRadius - sagitta - 1e-12);
-  EXPECT_LT((m.centroid - a.centroid).norm(), 0.01);
-  EXPECT_NEAR(m.touching, a.touching, 0.03);
-  EXPECT_NEAR(m.skirt, a.skirt, 0.005);
+  EXPECT_GE(m.innermost, kRadius + kThickness - sagitta - 1e-12);
+  EXPECT_LT((m.centroid - a.centroid).norm(), 0.012);
+  EXPECT_NEAR(m.touching, a.touching, 0.10);
+  EXPECT_NEAR(m.spread, a.spread, 0.007);
+  EXPECT_GT(a.touching, 0.05);  // both rest on the sphere
+  EXPECT_GT(m.touching, 0.05);
 }
 
 }  // namespace
