@@ -61,6 +61,7 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
     const double steps = std::max<double>(1.0, static_cast<double>(result.steps_done));
     report["contact"] = {{"cpu_s", result.contact_seconds},
                          {"ms_per_step", 1e3 * result.contact_seconds / steps},
+                         {"proximity_impulses", result.contact_proximities},
                          {"impacts", result.contact_impacts},
                          {"list_rebuilds", result.contact_rebuilds},
                          {"impact_zones", result.contact_zones},

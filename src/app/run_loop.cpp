@@ -77,6 +77,7 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
     result.newton_iterations += ws.newton_iterations;
     result.cg_iterations += ws.cg_iterations;
     result.contact_seconds += ws.contact_seconds;
+    result.contact_proximities += ws.contact.proximities;
     result.contact_impacts += ws.contact.impacts;
     result.contact_rebuilds += ws.contact.rebuilt ? 1 : 0;
     result.contact_zones += ws.contact.zones;

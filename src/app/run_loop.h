@@ -57,7 +57,7 @@ struct RunResult {
   // The collision stage (physics/cloth_contact.h), when the scene has one: processor
   // time and totals over the run.
   double contact_seconds = 0.0;
-  long long contact_impacts = 0, contact_rebuilds = 0, contact_zones = 0,
+  long long contact_proximities = 0, contact_impacts = 0, contact_rebuilds = 0, contact_zones = 0,
             contact_rigid_zones = 0, contact_unresolved = 0;
   std::vector<FrameCheck> checks;  // with RunOptions::check, one per frame
 };

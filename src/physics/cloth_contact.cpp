@@ -190,6 +190,7 @@ struct ClothContact::Impl {
   int detection = 0;
   bool full_detection = true;
   std::vector<int> changed_at;  // (V) the detection round after which it last moved
+  bool project_supports = true;  // kick() holds supported vertices out of their obstacle
 
   const Vec3& start(int id) const { return id < V ? (*x0)[id] : k0[id - V]; }
   const Vec3& end(int id) const { return id < V ? (*x1)[id] : k1[id - V]; }
@@ -221,6 +222,7 @@ struct ClothContact::Impl {
     (*v)[id] += dv;
     (*x1)[id] += dt * dv;
     changed_at[id] = detection;
+    if (!project_supports) return;
     const int s = support_of[id];
     if (s < 0) return;
     const Support& support = supports[s];
@@ -769,11 +771,45 @@ void ClothContact::Impl::push_apart(const Constraint& c) {
 }
 
 // Step 3: all constraints met together (projected Gauss-Seidel on the end positions, the
-// mass-weighted nearest motion: Harmon et al. 2008). True when they all hold.
+// mass-weighted nearest motion: Harmon et al. 2008), with the obstacles that support
+// zone vertices as constraints of their own. True when they all hold; when they do not,
+// or when meeting them would move a vertex farther than the step could (a pinch that no
+// motion resolves), the end positions are left as they were and false is returned.
 bool ClothContact::Impl::solve_zones() {
-  for (int sweep = 0; sweep < kZoneSweeps; ++sweep) {
+  std::vector<int> members;
+  for (const Constraint& c : constraints) {
+    for (int id : c.p) {
+      if (id < V) members.push_back(id);
+    }
+  }
+  std::sort(members.begin(), members.end());
+  members.erase(std::unique(members.begin(), members.end()), members.end());
+  std::vector<Constraint> all = constraints;
+  double limit = 0.0;
+  Vec3List saved_x(members.size()), saved_v(members.size());
+  for (size_t k = 0; k < members.size(); ++k) {
+    const int i = members[k];
+    saved_x[k] = (*x1)[i];
+    saved_v[k] = (*v)[i];
+    limit = std::max(limit, ((*x1)[i] - (*x0)[i]).norm());
+    const int s = support_of[i];
+    if (s < 0) continue;
+    Constraint held;
+    held.p = {i, i, i, i};
+    held.weights[0] = 1.0;
+    held.weights[1] = held.weights[2] = held.weights[3] = 0.0;
+    held.normal = supports[s].normal;
+    held.separation = supports[s].offset;
+    all.push_back(held);
+  }
+  double thickest = 0.0;
+  for (const Constraint& c : constraints) thickest = std::max(thickest, c.separation);
+  limit = 2.0 * limit + 100.0 * thickest + 1e-4;
+  project_supports = false;
+  bool converged = false;
+  for (int sweep = 0; sweep < kZoneSweeps && !converged; ++sweep) {
     double worst = 0.0;
-    for (Constraint& c : constraints) {
+    for (Constraint& c : all) {
       double gap = 0.0;
       for (int k = 0; k < 4; ++k) gap += c.weights[k] * c.normal.dot(end(c.p[k]));
       const double w = effective_inverse_mass(c.p, c.weights);
@@ -784,7 +820,21 @@ bool ClothContact::Impl::solve_zones() {
       worst = std::max(worst, std::fabs(step * w));
       for (int k = 0; k < 4; ++k) kick(c.p[k], (c.weights[k] * inv_mass(c.p[k]) * step / dt) * c.normal);
     }
-    if (worst <= 1e-3 * 1e-6) return true;
+    converged = worst <= 1e-9;
+  }
+  project_supports = true;
+  bool reasonable = true;
+  for (size_t k = 0; k < members.size(); ++k) {
+    reasonable = reasonable && ((*x1)[members[k]] - saved_x[k]).norm() <= limit;
+  }
+  if (converged && reasonable) {
+    for (size_t k = 0; k < constraints.size(); ++k) constraints[k].lambda = all[k].lambda;
+    return true;
+  }
+  for (size_t k = 0; k < members.size(); ++k) {
+    (*x1)[members[k]] = saved_x[k];
+    (*v)[members[k]] = saved_v[k];
+    changed_at[members[k]] = detection;
   }
   return false;
 }
@@ -890,7 +940,7 @@ void ClothContact::Impl::collide(ContactStats& stats) {
   // Impact zones: every impact so far (and each new one) constrains the end positions.
   for (Constraint& c : constraints) c.lambda = 0.0;
   for (int round = 0; round < kZoneRounds; ++round) {
-    solve_zones();
+    if (!solve_zones()) break;  // the rigid zones below take over
     ++stats.rounds;
     if (detect(found) == 0) {
       zones.reset(V);
