@@ -1,5 +1,7 @@
 #include "physics/cloth_contact.h"
 
+#include <time.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,6 +11,7 @@
 #include "collision/ccd.h"
 #include "collision/closed_surface.h"
 #include "collision/primitive_distance.h"
+#include "physics/step_scratch.h"
 
 namespace tissu {
 
@@ -105,6 +108,28 @@ struct Zones {
 };
 
 }  // namespace
+
+void ContactStats::add(const ContactStats& other) {
+  candidates = std::max(candidates, other.candidates);
+  rebuilt = rebuilt || other.rebuilt;
+  proximities += other.proximities;
+  impacts += other.impacts;
+  rounds += other.rounds;
+  zones += other.zones;
+  rigid_zones += other.rigid_zones;
+  unresolved = other.unresolved;
+}
+
+void run_collision_stage(const Model& model, double t0, double dt, const Vec3List& x0,
+                         State& state, Workspace& ws) {
+  StepScratch& scratch = scratch_of(ws);
+  if (!scratch.contact) scratch.contact = std::make_shared<ClothContact>();
+  timespec start{}, end{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &start);
+  ws.contact.add(scratch.contact->resolve(model, t0, dt, x0, state.x, state.v));
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &end);
+  ws.contact_seconds += (end.tv_sec - start.tv_sec) + 1e-9 * (end.tv_nsec - start.tv_nsec);
+}
 
 bool needs_cloth_contact(const Model& model) {
   if (model.self_collision) return true;

@@ -56,10 +56,20 @@ struct ContactStats {
   int zones = 0;        // impact zones solved together
   int rigid_zones = 0;  // zones moved rigidly (last resort)
   int unresolved = 0;   // impacts left after everything (0 unless the stage gave up)
+
+  void add(const ContactStats& other);  // sums, `rebuilt` if either rebuilt
 };
 
 // True when the model declares what the stage handles: self-collision, or a mesh obstacle.
 bool needs_cloth_contact(const Model& model);
+
+struct State;
+struct Workspace;
+// Runs the workspace's stage over one step (or substep) of dt from t0, from positions x0
+// to `state`, and adds what it did and its processor time to ws.contact and
+// ws.contact_seconds.
+void run_collision_stage(const Model& model, double t0, double dt, const Vec3List& x0,
+                         State& state, Workspace& ws);
 
 class ClothContact {
  public:

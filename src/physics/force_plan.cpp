@@ -88,13 +88,16 @@ void ForcePlan::plan(const Model& model) {
 namespace {
 
 void forces_stage1_chunk(const Model& model, const Vec3List& x, const Vec3List& v, double t,
-                         int chunk, ForcePlan& plan) {
+                         int chunk, ForcePlan& plan, ForceTerms terms) {
   const ForcePlan::Chunk& c = plan.chunks[chunk];
   Vec3* buffer = plan.partial.data() + c.offset;
   std::fill(buffer, buffer + (c.end_vertex - c.first_vertex), Vec3::Zero());
   const VertexForces out{buffer, c.first_vertex};
-  add_membrane_forces(model, x, &v, c.first_triangle, c.end_triangle, out);
-  if (model.wind) add_wind(model, *model.wind, x, v, t, c.first_triangle, c.end_triangle, out);
+  const bool all = terms == ForceTerms::All;
+  add_membrane_forces(model, x, all ? &v : nullptr, c.first_triangle, c.end_triangle, out);
+  if (model.wind && all) {
+    add_wind(model, *model.wind, x, v, t, c.first_triangle, c.end_triangle, out);
+  }
 }
 
 void forces_stage1_bending(const Model& model, const Vec3List& x, int block,
@@ -107,12 +110,12 @@ void forces_stage1_bending(const Model& model, const Vec3List& x, int block,
 }  // namespace
 
 void forces_stage1(const Model& model, const Vec3List& x, const Vec3List& v, double t,
-                   int threads, ForcePlan& plan, Vec3List& f) {
+                   int threads, ForcePlan& plan, Vec3List& f, ForceTerms terms) {
   if (model.bending) plan.origin = bending_origin(x);
   parallel_for(threads, static_cast<int>(plan.stage1_items.size()), [&](int k) {
     const int item = plan.stage1_items[k];
     if (item >= 0) {
-      forces_stage1_chunk(model, x, v, t, item, plan);
+      forces_stage1_chunk(model, x, v, t, item, plan, terms);
     } else {
       forces_stage1_bending(model, x, -1 - item, plan, f);
     }
@@ -120,7 +123,7 @@ void forces_stage1(const Model& model, const Vec3List& x, const Vec3List& v, dou
 }
 
 void forces_stage2(const Model& model, const Vec3List& v, int block, const ForcePlan& plan,
-                   Vec3List& f) {
+                   Vec3List& f, ForceTerms terms) {
   const int first = plan.block_begin(block), end = plan.block_end(block);
   if (!model.bending) std::fill(f.begin() + first, f.begin() + end, Vec3::Zero());
   for (int k = plan.block_chunk_start[block]; k < plan.block_chunk_start[block + 1]; ++k) {
@@ -130,16 +133,18 @@ void forces_stage2(const Model& model, const Vec3List& v, int block, const Force
   }
   const VertexForces out = VertexForces::of(f);
   if (model.gravity) add_gravity(model, *model.gravity, first, end, out);
-  if (model.air_damping) add_air_damping(model, *model.air_damping, v, first, end, out);
+  if (model.air_damping && terms == ForceTerms::All) {
+    add_air_damping(model, *model.air_damping, v, first, end, out);
+  }
 }
 
 void compute_forces(const Model& model, const Vec3List& x, const Vec3List& v, double t,
-                    Vec3List& f, ForcePlan& plan, int threads) {
+                    Vec3List& f, ForcePlan& plan, int threads, ForceTerms terms) {
   f.resize(x.size());
   plan.plan(model);
-  forces_stage1(model, x, v, t, threads, plan, f);
+  forces_stage1(model, x, v, t, threads, plan, f, terms);
   parallel_for(threads, plan.num_blocks(),
-               [&](int block) { forces_stage2(model, v, block, plan, f); });
+               [&](int block) { forces_stage2(model, v, block, plan, f, terms); });
 }
 
 }  // namespace tissu

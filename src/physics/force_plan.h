@@ -62,17 +62,24 @@ struct ForcePlan {
   uint64_t planned_mesh = 0;               // and its Model::mesh_id
 };
 
+// Which terms an evaluation sums: all of them, or only the conservative ones (membrane
+// elasticity, bending, gravity: minus the gradient of the potential energy), which the
+// implicit solver's line search needs apart.
+enum class ForceTerms { All, Conservative };
+
 // Stage 1 (see ForcePlan), on at most `threads` threads: the membrane and wind forces of
 // every triangle chunk into its buffer; the bending forces of every vertex block, written
 // to f (without bending, stage 2 starts from zero instead). Call plan.plan(model) first.
 void forces_stage1(const Model& model, const Vec3List& x, const Vec3List& v, double t,
-                   int threads, ForcePlan& plan, Vec3List& f);
+                   int threads, ForcePlan& plan, Vec3List& f,
+                   ForceTerms terms = ForceTerms::All);
 // Stage 2 for vertex block `block`: f of its vertices becomes the total force.
 void forces_stage2(const Model& model, const Vec3List& v, int block, const ForcePlan& plan,
-                   Vec3List& f);
+                   Vec3List& f, ForceTerms terms = ForceTerms::All);
 
 // Both stages over the whole mesh on at most `threads` threads.
 void compute_forces(const Model& model, const Vec3List& x, const Vec3List& v, double t,
-                    Vec3List& f, ForcePlan& plan, int threads);
+                    Vec3List& f, ForcePlan& plan, int threads,
+                    ForceTerms terms = ForceTerms::All);
 
 }  // namespace tissu

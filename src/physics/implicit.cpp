@@ -2,44 +2,50 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <ctime>
 #include <utility>
 
-#include "physics/block_triplets.h"
+#include "physics/bending.h"
+#include "physics/cloth_contact.h"
+#include "physics/contact.h"
 #include "physics/force_plan.h"
 #include "physics/forces.h"
 #include "physics/linear_solver.h"
+#include "physics/membrane.h"
 #include "physics/step_scratch.h"
+#include "physics/system_matrix.h"
 
 namespace tissu {
 
 // Scratch memory and caches of the implicit integrators, kept in StepScratch::implicit so
-// that steps after the first allocate nothing: the Jacobian triplets (their capacity), the
-// block pattern of the system matrix and, for every triplet, the slot of the matrix value
-// it adds to.
+// that steps after the first allocate nothing.
 struct ImplicitSolver {
-  BlockTriplets dfdx, dfdv;
-  // Per triplet: its (row, column) key when the slot was found, and the slot
-  // (index into A.values(), or one of the negative codes below).
-  std::vector<uint64_t> key_x, key_v;
-  std::vector<int> slot_x, slot_v;
-  std::vector<uint8_t> pattern_pinned;  // the pin flags the pattern was built for
-  bool has_pattern = false;
-
-  BlockSparseMatrix A;  // M - beta df/dv - beta^2 df/dx over the free vertices
+  SystemMatrix system;  // A = M - beta df/dv - beta^2 df/dx
   BlockJacobiPreconditioner block_jacobi;
   CholeskyPreconditioner cholesky;
-
+  bool refactor = false;  // the kept factor has become slow: factorize at the next solve
   CgWorkspace cg;
-  Eigen::VectorXd rhs, dv, shift;
-  Eigen::VectorXd weights;     // (3V) 1/m per free coordinate, 0 for pinned ones, 1/kg
+  Eigen::VectorXd rhs;       // (3V) the Newton right-hand side, kg*m/s
+  Eigen::VectorXd dv;        // (3V) Newton direction, m/s
+  Eigen::VectorXd reaction;  // (3V) A dv - rhs: the constraint impulses, kg*m/s
+  Eigen::VectorXd weights;   // (3V) 1/m per free coordinate, 0 for pinned ones, 1/kg
 
-  Vec3List x_base, v_base;       // (V) the step equation's affine part, m and m/s
-  Vec3List v, x;                 // (V) current Newton iterate and its positions
-  Vec3List v_try, x_try, f_try;  // (V) line-search trial
-  Vec3List f_lin;                // (V) forces at the first linearization point, N
-  Vec3List x_saved, v_saved;     // (V) x_n, v_n (become State::previous after the step)
+  Vec3List x_base, v_base;   // (V) the step equation's affine part, m and m/s
+  Vec3List x_end_base;       // (V) end-of-step positions at v = 0, m
+  Vec3List v, x, f;          // (V) Newton iterate, its force point and forces there
+  Vec3List v_try, x_try, f_try, x_end;  // (V) line-search trial; end positions
+  Vec3List f_conservative, f_probe;     // (V) potential-merit helpers, N
+  Vec3List f_lin;                       // (V) forces at the first linearization point, N
+  Eigen::VectorXd shift, shift_product;  // (3V) x(v) - x_n and A times it
+  std::vector<double> triangle_energy;  // (T) membrane energies at the iterate, J
+  Vec3List x_saved, v_saved;  // (V) x_n, v_n (become State::previous after the step)
+
+  ContactSet contacts;
+  std::vector<PlacedObstacle> placed;  // obstacles at the end of the step
+  std::vector<DiagonalAddition> additions;  // constraint stiffness of the factor
+  std::vector<double> release;         // (V) pull that releases a contact, kg*m/s
+  // (V) velocity changes given to the step as impulses M kick (empty: none), m/s.
+  Vec3List kicks;
 
   ImplicitReport report;
 };
@@ -51,183 +57,173 @@ double processor_seconds_since(std::clock_t t0) {
   return static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
 }
 
-constexpr int kPinned = -1;   // the triplet touches a pinned vertex: not in the solve
-constexpr int kMissing = -2;  // its block is not in the pattern
-// Cholesky preconditioner: a factorization costs about as much as 30 CG iterations (5000
-// triangles). A fresh factor needs 2-10 iterations, one kept from earlier steps 5-20 while
-// the cloth moves gently, thousands once it folds or hits an obstacle. PCG with a kept
-// factor gives up after this many and refactors.
+// Cholesky preconditioner: a factorization costs about as much as 20 PCG iterations (5000
+// triangles). A fresh factor needs 1-3 iterations, one kept from earlier steps 5-15 while
+// the cloth moves gently, hundreds once it folds or hits an obstacle. PCG with a kept
+// factor gives up after kStaleFactorCgIterations and refactors; a kept factor that needed
+// more than kRefactorAfter is replaced at the next solve.
 constexpr int kStaleFactorCgIterations = 20;
+constexpr int kRefactorAfter = 10;
 constexpr int kMaxHalvings = 12;              // line search: smallest step 2^-12
-constexpr double kSufficientDecrease = 1e-4;  // Armijo constant on |g|
+constexpr double kSufficientDecrease = 1e-4;  // Armijo constant
+// Newton iterations beyond max_newton_iterations while the line search shortens the step
+// or the contacts change: a step does not end on a fraction of a Newton direction or on
+// contacts its last solve did not see, unless this runs out.
+constexpr int kExtraNewtonIterations = 8;
+// End positions deeper than this inside the contact distance count as penetrating, m.
+constexpr double kPenetrationTolerance = 1e-9;
 
-inline uint64_t key_of(const Eigen::Triplet<double>& t) {
-  return (static_cast<uint64_t>(static_cast<uint32_t>(t.row())) << 32) |
-         static_cast<uint32_t>(t.col());
-}
-
-// The step equation g(v) = M (v - v_base) - beta f(x_base + beta v, v, t_force) = 0.
+// The step equation g(v) = M (v - v_base) - beta f(x_base + beta v, v, t_force) = 0, whose
+// solution puts the vertices at x_end_base + beta_end v at the end of the step.
 struct StepEquation {
-  double beta = 0.0;     // s
-  double t_force = 0.0;  // s
+  double h = 0.0;         // step size, s
+  double t = 0.0;         // time at the start of the step, s
+  double beta = 0.0;      // s
+  double t_force = 0.0;   // s
+  double beta_end = 0.0;  // s
+  double t_end = 0.0;     // s
   // The unknown's change over the step is about warm_scale (v_n - v_{n-1}): 1 when the
   // unknown is v_{n+1}, 1/2 when it is the midpoint velocity.
   double warm_scale = 1.0;
 };
 
-// The state's history holds the step before this one (same step size).
-bool has_history(const Model& model, const State& state) {
+// The state's history holds the step before the one of size h starting at t.
+bool has_history(const Model& model, const State& state, double h, double t) {
   const size_t n = static_cast<size_t>(model.num_vertices());
-  return state.previous.step + 1 == state.step && state.previous.dt == model.dt &&
+  return state.previous.dt == h && std::fabs(state.previous.t + h - t) <= 1e-9 * h &&
          state.previous.x.size() == n && state.previous.v.size() == n;
 }
 
-// Positions of the iterate v: x_base + beta v for free vertices, x_n for pinned ones.
-void positions(const Model& model, const ImplicitSolver& s, const StepEquation& eq,
-               const Vec3List& x_n, const Vec3List& v, Vec3List& x) {
+// Positions x_base + beta v for free vertices, x_n for pinned ones.
+void positions(const Model& model, const Vec3List& base, double beta, const Vec3List& x_n,
+               const Vec3List& v, Vec3List& x) {
   x.resize(v.size());
   for (int i = 0; i < model.num_vertices(); ++i) {
-    x[i] = model.pinned[i] ? x_n[i] : Vec3(s.x_base[i] + eq.beta * v[i]);
+    x[i] = model.pinned[i] ? x_n[i] : Vec3(base[i] + beta * v[i]);
   }
 }
 
-// |g(v)|_{M^-1} over the free vertices given the forces f at (x(v), v).
-double residual_norm(const Model& model, const ImplicitSolver& s, const StepEquation& eq,
-                     const Vec3List& v, const Vec3List& f) {
-  double sum = 0.0;
+// rhs = M (v_base - v) + beta f (= -g(v)) plus the friction impulses, free rows only.
+void step_rhs(const Model& model, const ImplicitSolver& s, const StepEquation& eq,
+              const Vec3List& v, const Vec3List& f, Eigen::VectorXd& rhs) {
+  rhs.setZero(3 * model.num_vertices());
   for (int i = 0; i < model.num_vertices(); ++i) {
     if (model.pinned[i]) continue;
-    const Vec3 g = model.mass[i] * (v[i] - s.v_base[i]) - eq.beta * f[i];
-    sum += model.mass[i] > 0.0 ? g.squaredNorm() / model.mass[i] : g.squaredNorm();
+    rhs.segment<3>(3 * i) = model.mass[i] * (s.v_base[i] - v[i]) + eq.beta * f[i];
   }
-  return std::sqrt(sum);
+  s.contacts.add_friction(rhs);
 }
 
-// Block pattern of the free-vertex system: every (row, column) vertex pair the Jacobian
-// triplets touch, plus the diagonal (mass) blocks. Pairs whose triplets are all diagonal
-// entries (the bending Jacobian's second-ring pairs) get diagonal-only blocks.
-void build_pattern(const Model& model, ImplicitSolver& s) {
+// The first Newton iteration of a step is linearized at the start of the step, x_n (Baraff
+// & Witkin 1998): its right-hand side is M (v_base - v) + beta f(x_n, v) + beta df/dx s
+// with s = x(v) - x_n, plus the friction impulses. beta df/dx s comes from the assembled
+// matrix A = M - beta df/dv - beta^2 df/dx as (M s - beta df/dv s - A s) / beta, with
+// df/dv s = f(x_n, v + s) - f(x_n, v) exactly (the forces are linear in v at fixed x).
+void first_rhs(const Model& model, const State& state, ImplicitSolver& s, const StepEquation& eq,
+               ForcePlan& plan, int threads) {
   const int n = model.num_vertices();
-  std::vector<std::pair<int, int>> full, diagonal_only;
-  full.reserve(s.dfdx.entries.size() / 9 + n);
+  compute_forces(model, state.x, s.v, eq.t_force, s.f_lin, plan, threads);
+  step_rhs(model, s, eq, s.v, s.f_lin, s.rhs);
+  s.shift.setZero(3 * n);
+  s.v_try = s.v;
   for (int i = 0; i < n; ++i) {
-    if (!model.pinned[i]) full.emplace_back(i, i);
+    if (model.pinned[i]) continue;
+    const Vec3 shift = s.x_base[i] + eq.beta * s.v[i] - state.x[i];
+    s.shift.segment<3>(3 * i) = shift;
+    s.v_try[i] += shift;
   }
-  for (const BlockTriplets* triplets : {&s.dfdx, &s.dfdv}) {
-    std::pair<int, int> last_full(-1, -1), last_diagonal(-1, -1);
-    for (const Eigen::Triplet<double>& t : triplets->entries) {
-      const std::pair<int, int> b(t.row() / 3, t.col() / 3);
-      const bool off_diagonal = t.row() % 3 != t.col() % 3;
-      std::pair<int, int>& last = off_diagonal ? last_full : last_diagonal;
-      if (b == last) continue;  // consecutive entries of one 3x3 block
-      last = b;
-      if (model.pinned[b.first] || model.pinned[b.second]) continue;
-      (off_diagonal ? full : diagonal_only).push_back(b);
-    }
-  }
-  s.A.set_pattern(n, std::move(full), std::move(diagonal_only));
-  s.pattern_pinned = model.pinned;
-  s.has_pattern = true;
-  s.key_x.clear();
-  s.key_v.clear();
-  s.slot_x.clear();
-  s.slot_v.clear();
-}
-
-// Slot in A.values() of one triplet; kPinned if it touches a pinned vertex, kMissing if its
-// block is not in the pattern.
-int find_slot(const Model& model, const BlockSparseMatrix& A, const Eigen::Triplet<double>& t) {
-  const int i = t.row() / 3, j = t.col() / 3;
-  if (model.pinned[i] || model.pinned[j]) return kPinned;
-  const int slot = A.find_entry(i, j, t.row() % 3, t.col() % 3);
-  return slot >= 0 ? slot : kMissing;
-}
-
-// Adds scale * triplets into A, reusing the cached slots (checked against the triplet
-// keys, since terms such as the wind skip degenerate triangles and change the triplet
-// sequence). Returns false if a block is missing from the pattern (the caller rebuilds it).
-bool scatter(const Model& model, const BlockTriplets& triplets, std::vector<uint64_t>& keys,
-             std::vector<int>& slots, double scale, BlockSparseMatrix& A) {
-  const size_t count = triplets.entries.size();
-  if (keys.size() != count) {
-    keys.resize(count, ~uint64_t{0});
-    slots.resize(count, kMissing);
-  }
-  double* values = A.values().data();
-  for (size_t k = 0; k < count; ++k) {
-    const Eigen::Triplet<double>& t = triplets.entries[k];
-    const uint64_t key = key_of(t);
-    if (keys[k] != key) {
-      keys[k] = key;
-      slots[k] = find_slot(model, A, t);
-    }
-    const int slot = slots[k];
-    if (slot == kPinned) continue;
-    if (slot == kMissing) {
-      keys[k] = ~uint64_t{0};
-      return false;
-    }
-    values[slot] += scale * t.value();
-  }
-  return true;
-}
-
-// Fills A = M - beta df/dv - beta^2 df/dx from the Jacobian triplets (free vertices only).
-void assemble(const Model& model, ImplicitSolver& s, double beta) {
-  if (!s.has_pattern || s.pattern_pinned != model.pinned ||
-      s.A.num_vertices() != model.num_vertices()) {
-    build_pattern(model, s);
-  }
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    s.A.set_zero();
-    for (int i = 0; i < model.num_vertices(); ++i) {
-      if (model.pinned[i]) continue;
-      double* d = s.A.block_values(s.A.diagonal(i));
-      d[0] += model.mass[i];
-      d[4] += model.mass[i];
-      d[8] += model.mass[i];
-    }
-    if (scatter(model, s.dfdx, s.key_x, s.slot_x, -beta * beta, s.A) &&
-        scatter(model, s.dfdv, s.key_v, s.slot_v, -beta, s.A)) {
-      return;
-    }
-    // A block outside the pattern: rebuild the pattern from the current triplets, retry.
-    build_pattern(model, s);
+  compute_forces(model, state.x, s.v_try, eq.t_force, s.f_probe, plan, threads);
+  s.system.matrix().multiply(s.shift, s.shift_product);
+  for (int i = 0; i < n; ++i) {
+    if (model.pinned[i]) continue;
+    const Vec3 damping = s.f_probe[i] - s.f_lin[i];  // df/dv s
+    s.rhs.segment<3>(3 * i) += (model.mass[i] * Vec3(s.shift.segment<3>(3 * i)) -
+                                eq.beta * damping - Vec3(s.shift_product.segment<3>(3 * i))) /
+                               eq.beta;
   }
 }
 
-// rhs += scale df/dx y over the free rows and columns (after assemble(), which validated
-// the slots of the df/dx triplets).
-void add_dfdx_product(const ImplicitSolver& s, double scale, const Eigen::VectorXd& y,
-                      Eigen::VectorXd& rhs) {
-  for (size_t k = 0; k < s.dfdx.entries.size(); ++k) {
-    if (s.slot_x[k] == kPinned) continue;
-    const Eigen::Triplet<double>& t = s.dfdx.entries[k];
-    rhs[t.row()] += scale * t.value() * y[t.col()];
+// |S (g(v) - F)|_{M^-1}: the step equation's residual in the directions the contacts leave
+// free, with the friction impulses F (sqrt(kg) m/s).
+double residual_norm(const Model& model, ImplicitSolver& s, const StepEquation& eq,
+                     const Vec3List& v, const Vec3List& f) {
+  step_rhs(model, s, eq, v, f, s.reaction);
+  s.contacts.filter(s.reaction);
+  return std::sqrt(s.reaction.cwiseAbs2().dot(s.weights));
+}
+
+// A contact pulling with more than this fraction of its vertex's weight impulse is
+// released (a weaker pull is kept, so that contacts balanced at J_n = 0 do not flip
+// between released and caught from one step to the next).
+constexpr double kReleasePull = 1.0;
+
+// The pull that releases each vertex's contact, kg*m/s (per vertex).
+const std::vector<double>& release_impulses(const Model& model, const StepEquation& eq,
+                                            ImplicitSolver& s) {
+  const double g = model.gravity ? model.gravity->norm() : 0.0;
+  s.release.resize(model.num_vertices());
+  for (int i = 0; i < model.num_vertices(); ++i) {
+    s.release[i] = kReleasePull * model.mass[i] * g * eq.beta;
+  }
+  return s.release;
+}
+
+class ContactFilter : public SolveFilter {
+ public:
+  explicit ContactFilter(const ContactSet& contacts) : contacts_(contacts) {}
+  void apply(Eigen::VectorXd& y) const override { contacts_.filter(y); }
+
+ private:
+  const ContactSet& contacts_;
+};
+
+// The factor of the Cholesky preconditioner stiffens every constrained direction to
+// kConstraintStiffness times its vertex's diagonal entries, so that it approximates the
+// inverse of the filtered system (an exact factor of the unconstrained matrix would need
+// about one more PCG iteration per constrained direction).
+constexpr double kConstraintStiffness = 1e4;
+
+void constraint_stiffness(const ContactSet& contacts, const BlockSparseMatrix& A,
+                          std::vector<DiagonalAddition>& additions) {
+  additions.clear();
+  for (const VertexContact& c : contacts.contacts()) {
+    const double* d = A.block_values(A.diagonal(c.vertex));
+    const double k = kConstraintStiffness * (d[0] + d[4] + d[8]) / 3.0;
+    const Mat3 block = c.mode == ContactMode::Stick ? Mat3(k * Mat3::Identity())
+                                                    : Mat3(k * c.normal * c.normal.transpose());
+    additions.push_back({c.vertex, block});
   }
 }
 
-// Solves s.A s.dv = s.rhs by PCG from the s.dv given. With linear_solver cholesky, the
+// Solves S A S dv = S rhs by PCG from the dv given. With linear_solver cholesky, the
 // factor of an earlier matrix is tried first: when it has not converged within
 // kStaleFactorCgIterations, the current matrix is factorized and PCG goes on from there.
 // Block Jacobi on request, or when a factorization fails (A not positive definite).
 CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
                       ImplicitReport& report) {
+  const BlockSparseMatrix& A = s.system.matrix();
+  const ContactFilter filter(s.contacts);
+  const SolveFilter* constraints = s.contacts.empty() ? nullptr : &filter;
   auto pcg = [&](const Preconditioner& p, int max_iterations) {
     const std::clock_t t0 = std::clock();
-    const CgResult r =
-        solve_pcg(s.A, p, s.rhs, opt.cg_tolerance, max_iterations, s.dv, s.cg, &s.weights);
+    const CgResult r = solve_pcg(A, p, s.rhs, opt.cg_tolerance, max_iterations, s.dv, s.cg,
+                                 &s.weights, constraints);
     report.seconds_cg += processor_seconds_since(t0);
     return r;
   };
   CgResult stale;
   if (opt.linear_solver == LinearSolver::Cholesky) {
-    if (s.cholesky.valid() && s.cholesky.pattern_id() == s.A.pattern_id()) {
+    if (s.cholesky.valid() && s.cholesky.pattern_id() == A.pattern_id() && !s.refactor) {
       stale = pcg(s.cholesky, kStaleFactorCgIterations);
-      if (stale.converged) return stale;
+      if (stale.converged) {
+        s.refactor = stale.iterations > kRefactorAfter;
+        return stale;
+      }
     }
+    s.refactor = false;
     std::clock_t t0 = std::clock();
-    const bool factorized = s.cholesky.compute(s.A);
+    constraint_stiffness(s.contacts, A, s.additions);
+    const bool factorized = s.cholesky.compute(A, s.additions);
     report.seconds_preconditioner += processor_seconds_since(t0);
     if (factorized) {
       report.factorizations += 1;
@@ -237,28 +233,139 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
     }
   }
   std::clock_t t0 = std::clock();
-  s.block_jacobi.compute(s.A);
+  s.block_jacobi.compute(A);
   report.seconds_preconditioner += processor_seconds_since(t0);
   CgResult r = pcg(s.block_jacobi, max_cg);
   r.iterations += stale.iterations;
   return r;
 }
 
-// Newton's method on g(v) = 0, starting from v = v_n (already in s.v). The first iteration
-// linearizes the forces at the start of the step (x_n, v_n), as Baraff & Witkin 1998 do;
-// later ones at the current iterate (x_base + beta v, v). Each direction solves
-//   (M - beta df/dv - beta^2 df/dx) dv = M (v_base - v) + beta f_lin
+// Forces at the iterate: x = x(v), f = f(x, v, t_force).
+void evaluate(const Model& model, const State& state, ImplicitSolver& s, const StepEquation& eq,
+              ForcePlan& plan, int threads, const Vec3List& v, Vec3List& x, Vec3List& f) {
+  positions(model, s.x_base, eq.beta, state.x, v, x);
+  compute_forces(model, x, v, eq.t_force, f, plan, threads);
+}
+
+// End positions x_end_base + beta_end v, m.
+const Vec3List& end_positions(const Model& model, ImplicitSolver& s, const StepEquation& eq,
+                              const State& state, const Vec3List& v) {
+  positions(model, s.x_end_base, eq.beta_end, state.x, v, s.x_end);
+  return s.x_end;
+}
+
+// The line search's merit along v + alpha dv (docs/implicit.md), relative to alpha = 0.
+class Merit {
+ public:
+  Merit(const Model& model, const State& state, ImplicitSolver& s, const StepEquation& eq,
+        ForcePlan& plan, int threads)
+      : model_(model), state_(state), s_(s), eq_(eq), plan_(plan), threads_(threads) {}
+
+  // Prepares the merit at the iterate s.v (forces s.f there) along s.dv; returns its
+  // slope at alpha = 0 (negative along a descent direction).
+  double start(LineSearch kind) {
+    kind_ = kind;
+    const int n = model_.num_vertices();
+    if (kind_ == LineSearch::Residual) {
+      value0_ = residual_norm(model_, s_, eq_, s_.v, s_.f);
+      return -value0_;
+    }
+    // Incremental potential: the kinetic part, the potential energy U (membrane, bending,
+    // gravity) of x(v), and the non-conservative forces f_nc (damping, wind) frozen as
+    // their linearization around the iterate: f_nc(v) + df_nc/dv (v' - v).
+    compute_forces(model_, s_.x, s_.v, eq_.t_force, s_.f_conservative, plan_, threads_,
+                   ForceTerms::Conservative);
+    mass_dv_dv_ = 0.0;
+    momentum_dv_ = 0.0;
+    nonconservative_dv_ = 0.0;
+    friction_dv_ = 0.0;
+    for (const VertexContact& c : s_.contacts.contacts()) {
+      if (c.mode == ContactMode::Slide) friction_dv_ += c.friction_impulse.dot(s_.dv.segment<3>(3 * c.vertex));
+    }
+    gravity_dv_ = 0.0;
+    for (int i = 0; i < n; ++i) {
+      if (model_.pinned[i]) continue;
+      const Vec3 d = s_.dv.segment<3>(3 * i);
+      mass_dv_dv_ += model_.mass[i] * d.squaredNorm();
+      momentum_dv_ += model_.mass[i] * (s_.v[i] - s_.v_base[i]).dot(d);
+      nonconservative_dv_ += (s_.f[i] - s_.f_conservative[i]).dot(d);
+      if (model_.gravity) gravity_dv_ += model_.mass[i] * model_.gravity->dot(d);
+    }
+    // dv^T D dv of the damping matrix D = -df_nc/dv, from forces at (x, v + dv).
+    s_.v_try = s_.v;
+    for (int i = 0; i < n; ++i) {
+      if (!model_.pinned[i]) s_.v_try[i] += s_.dv.segment<3>(3 * i);
+    }
+    compute_forces(model_, s_.x, s_.v_try, eq_.t_force, s_.f_probe, plan_, threads_);
+    damping_dv_dv_ = 0.0;
+    for (int i = 0; i < n; ++i) {
+      if (!model_.pinned[i]) damping_dv_dv_ -= (s_.f_probe[i] - s_.f[i]).dot(s_.dv.segment<3>(3 * i));
+    }
+    triangle_energies(model_, s_.x, s_.triangle_energy);
+    bending0_ = model_.bending ? bending_energy(*model_.bending, s_.x) : 0.0;
+    value0_ = 0.0;
+    // The slope is -rhs(v) . dv, with rhs = -g(v) plus the friction impulses F, which the
+    // merit holds fixed over the line: -F . (v - v_k).
+    step_rhs(model_, s_, eq_, s_.v, s_.f, s_.reaction);
+    return -s_.reaction.dot(s_.dv);
+  }
+
+  // The merit at v + alpha dv, with x_try, v_try, f_try left at that point (f_try only for
+  // the residual merit; the caller evaluates forces for the accepted point).
+  double at(double alpha) {
+    const int n = model_.num_vertices();
+    s_.v_try = s_.v;
+    for (int i = 0; i < n; ++i) {
+      if (!model_.pinned[i]) s_.v_try[i] += alpha * s_.dv.segment<3>(3 * i);
+    }
+    positions(model_, s_.x_base, eq_.beta, state_.x, s_.v_try, s_.x_try);
+    if (kind_ == LineSearch::Residual) {
+      compute_forces(model_, s_.x_try, s_.v_try, eq_.t_force, s_.f_try, plan_, threads_);
+      return residual_norm(model_, s_, eq_, s_.v_try, s_.f_try);
+    }
+    const double kinetic = alpha * momentum_dv_ + 0.5 * alpha * alpha * mass_dv_dv_;
+    double potential = membrane_energy_change(model_, s_.x_try, s_.triangle_energy) -
+                       eq_.beta * alpha * gravity_dv_;
+    if (model_.bending) potential += bending_energy(*model_.bending, s_.x_try) - bending0_;
+    const double frozen = -eq_.beta * alpha * nonconservative_dv_ +
+                          0.5 * eq_.beta * alpha * alpha * damping_dv_dv_;
+    return kinetic + potential + frozen - alpha * friction_dv_;
+  }
+
+  double value0() const { return value0_; }
+
+ private:
+  const Model& model_;
+  const State& state_;
+  ImplicitSolver& s_;
+  const StepEquation& eq_;
+  ForcePlan& plan_;
+  const int threads_;
+  LineSearch kind_ = LineSearch::Potential;
+  double value0_ = 0.0;
+  double mass_dv_dv_ = 0.0, momentum_dv_ = 0.0, nonconservative_dv_ = 0.0;
+  double gravity_dv_ = 0.0, damping_dv_dv_ = 0.0, bending0_ = 0.0, friction_dv_ = 0.0;
+};
+
+// Newton's method on g(v) = 0 from v = v_n (already in s.v). Iteration k solves
+//   (M - beta df/dv - beta^2 df/dx) dv = M (v_base - v) + beta f(x_lin, v)
 //                                        + beta df/dx (x(v) - x_lin)
-// (the last term is zero after the first iteration, where the right-hand side is -g(v))
-// by PCG (linear_solve), and a backtracking line search on |g|_{M^-1} accepts the step.
+// with the Jacobians at (x_lin, v): the first iteration linearizes at the start of the step,
+// x_lin = x_n (Baraff & Witkin 1998, eq. 16 for backward Euler), later ones at the iterate,
+// x_lin = x(v), where the right-hand side is -g(v). PCG solves it with the contacts'
+// constrained directions filtered out. Between iterations the contacts are updated (an
+// active-set Newton method): released where they pull, switched between stick and slide,
+// added where the iterate would end inside an obstacle. A backtracking line search on the
+// merit (incremental potential or residual) picks each step length. Newton stops when the
+// residual is below newton_tolerance times the initial one after a whole step that changed
+// no contact, or after max_newton_iterations iterations if the last was such a step, or
+// after kExtraNewtonIterations more.
 void newton_solve(const Model& model, const State& state, Workspace& ws, ImplicitSolver& s,
                   const StepEquation& eq) {
   const int n = model.num_vertices();
-  StepScratch& scratch = scratch_of(ws);
-  ForcePlan& plan = scratch.forces;
-  Vec3List& f = scratch.f;
   const ImplicitOptions& opt = model.implicit;
   const int threads = force_threads(ws.threads, model);
+  ForcePlan& plan = scratch_of(ws).forces;
   ImplicitReport& report = s.report;
   {
     // Reset, keeping the vectors' capacity.
@@ -272,18 +379,6 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     report = std::move(fresh);
   }
 
-  // Residual at the initial guess.
-  std::clock_t t0 = std::clock();
-  positions(model, s, eq, state.x, s.v, s.x);
-  compute_forces(model, s.x, s.v, eq.t_force, f, plan, threads);
-  double r = residual_norm(model, s, eq, s.v, f);
-  report.seconds_residual += processor_seconds_since(t0);
-  const double r0 = r;
-  report.initial_residual = r0;
-  report.residuals.push_back(r);
-  const double target = opt.newton_tolerance * r0;
-  report.converged = (r <= target);
-
   // CG measures residuals in the same M^-1 norm as Newton; pinned entries weigh nothing.
   int free_dofs = 0;
   s.weights.resize(3 * n);
@@ -294,41 +389,69 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   }
   const int max_cg = std::max(50, free_dofs);
 
-  for (int k = 0; k < opt.max_newton_iterations && !report.converged && free_dofs > 0; ++k) {
-    // Linearization point and forces there.
-    t0 = std::clock();
-    const Vec3List* x_lin = &s.x;
-    const Vec3List* f_lin = &f;
-    if (k == 0) {
-      x_lin = &state.x;
-      compute_forces(model, state.x, s.v, eq.t_force, s.f_lin, plan, threads);
-      f_lin = &s.f_lin;
-    }
-    s.dfdx.clear();
-    s.dfdv.clear();
-    compute_force_jacobian(model, *x_lin, s.v, eq.t_force, /*project_psd=*/true, s.dfdx, s.dfdv);
-
-    // Right-hand side M (v_base - v) + beta f_lin (+ beta df/dx (x - x_lin)), free rows.
-    s.rhs.setZero(3 * n);
+  // Impulses given to the step (see substep): the step's affine velocity moves by them.
+  if (!s.kicks.empty()) {
     for (int i = 0; i < n; ++i) {
-      if (model.pinned[i]) continue;
-      s.rhs.segment<3>(3 * i) = model.mass[i] * (s.v_base[i] - s.v[i]) + eq.beta * (*f_lin)[i];
+      s.v_base[i] += eq.warm_scale * s.kicks[i];
+      s.v[i] += eq.warm_scale * s.kicks[i];
     }
-    assemble(model, s, eq.beta);
-    if (k == 0) {
-      s.shift.setZero(3 * n);
-      for (int i = 0; i < n; ++i) {
-        if (!model.pinned[i]) s.shift.segment<3>(3 * i) = s.x[i] - state.x[i];
-      }
-      add_dfdx_product(s, eq.beta, s.shift, s.rhs);
-    }
+  }
+
+  // Contacts at the start: vertices whose predicted end position (velocities unchanged)
+  // is near or inside an obstacle.
+  std::clock_t t0 = std::clock();
+  s.contacts.clear(n);
+  s.placed.clear();
+  for (const Obstacle& ob : model.obstacles) s.placed.push_back(place_obstacle(ob, eq.t_end));
+  if (!s.placed.empty()) {
+    const Vec3List& x_end = end_positions(model, s, eq, state, s.v);
+    s.contacts.detect(model, s.placed, x_end, kPenetrationTolerance);
+    s.contacts.set_targets(s.x_end_base, eq.beta_end);
+    s.contacts.project(s.v);
+  }
+  report.seconds_contact += processor_seconds_since(t0);
+
+  // Residual at the initial guess.
+  t0 = std::clock();
+  evaluate(model, state, s, eq, plan, threads, s.v, s.x, s.f);
+  double r = residual_norm(model, s, eq, s.v, s.f);
+  report.seconds_residual += processor_seconds_since(t0);
+  const double r0 = r;
+  report.initial_residual = r0;
+  report.residuals.push_back(r);
+  // The tolerance is relative to the initial residual, or to the residual gravity alone
+  // would leave over the step (beta |g| sqrt(sum m)) where that is larger: a cloth at rest
+  // starts with a residual near zero that one iteration cannot shrink by the tolerance.
+  double free_mass = 0.0;  // kg
+  for (int i = 0; i < n; ++i) free_mass += model.pinned[i] ? 0.0 : model.mass[i];
+  const double gravity_residual =
+      model.gravity ? eq.beta * model.gravity->norm() * std::sqrt(free_mass) : 0.0;
+  const double target = opt.newton_tolerance * std::max(r0, gravity_residual);
+  report.converged = (r <= target);
+
+  const int iteration_limit = opt.max_newton_iterations + kExtraNewtonIterations;
+  bool settled = true;  // the last iteration took a whole step and changed no contact
+  for (int k = 0; free_dofs > 0; ++k) {
+    // Converged, once the contacts have been checked by a solve.
+    if (report.converged && settled && (k > 0 || s.contacts.empty())) break;
+    if (k >= iteration_limit || (k >= opt.max_newton_iterations && settled)) break;
+    // The system matrix at the linearization point.
+    t0 = std::clock();
+    const Vec3List& x_lin = k == 0 ? state.x : s.x;
+    s.system.assemble(model, x_lin, s.v, eq.t_force, eq.beta, /*project_psd=*/true);
     report.seconds_jacobian += processor_seconds_since(t0);
 
-    // Linear solve by PCG (Cholesky or block-Jacobi preconditioner). The first iteration
-    // starts from the previous step's velocity change (consecutive steps change velocities
-    // alike), later ones from 0.
+    // The direction. The first solve of a step starts from the previous step's velocity
+    // change (consecutive steps change velocities alike), later ones from 0.
+    t0 = std::clock();
+    if (k == 0) {
+      first_rhs(model, state, s, eq, plan, threads);
+    } else {
+      step_rhs(model, s, eq, s.v, s.f, s.rhs);
+    }
+    report.seconds_residual += processor_seconds_since(t0);
     s.dv.setZero(3 * n);
-    if (k == 0 && has_history(model, state)) {
+    if (k == 0 && has_history(model, state, eq.h, eq.t)) {
       for (int i = 0; i < n; ++i) {
         if (model.pinned[i]) continue;
         s.dv.segment<3>(3 * i) = eq.warm_scale * (state.v[i] - state.previous.v[i]);
@@ -336,58 +459,109 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     }
     const CgResult cg = linear_solve(opt, s, max_cg, report);
     report.newton_iterations += 1;
+    report.linear_solves += 1;
     report.cg_iterations += cg.iterations;
     report.cg_per_iteration.push_back(cg.iterations);
     if (!cg.converged) report.cg_failed = true;
 
-    // Backtracking line search on |g|: accept the first step length with sufficient
-    // decrease; otherwise the best decrease found; otherwise no step.
+    // The contacts' impulses in this solve.
+    int contact_changes = 0;
+    if (!s.contacts.empty()) {
+      t0 = std::clock();
+      s.system.matrix().multiply(s.dv, s.reaction);
+      s.reaction -= s.rhs;
+      s.contacts.update(s.reaction);
+      report.seconds_contact += processor_seconds_since(t0);
+    }
+
+    // Backtracking line search: the first step length with sufficient decrease of the
+    // merit, otherwise the one with the least merit below the start. A direction that
+    // decreases it at no length tried is not taken: after the first iteration (linearized
+    // at the start of the step) Newton goes on from the iterate, whose own direction
+    // descends; a later one is taken whole, since a step without it would apply no force.
     t0 = std::clock();
-    double alpha = 1.0, best_alpha = 0.0, best_r = r, accepted = 0.0;
+    Merit merit(model, state, s, eq, plan, threads);
+    const double slope = merit.start(opt.line_search);
+    const double base = merit.value0();
+
+    double alpha = 1.0, best_alpha = 0.0, best = base, accepted = 0.0;
     for (int trial = 0; trial <= kMaxHalvings; ++trial, alpha *= 0.5) {
-      s.v_try = s.v;
-      for (int i = 0; i < n; ++i) {
-        if (!model.pinned[i]) s.v_try[i] += alpha * s.dv.segment<3>(3 * i);
-      }
-      positions(model, s, eq, state.x, s.v_try, s.x_try);
-      compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try, plan, threads);
-      const double r_try = residual_norm(model, s, eq, s.v_try, s.f_try);
-      if (r_try <= (1.0 - kSufficientDecrease * alpha) * r) {
+      const double value = merit.at(alpha);
+      const double bound = opt.line_search == LineSearch::Residual
+                               ? (1.0 - kSufficientDecrease * alpha) * base
+                               : base + kSufficientDecrease * alpha * slope;
+      if (value <= bound) {
         accepted = alpha;
-        r = r_try;
         break;
       }
-      if (r_try < best_r) {
-        best_r = r_try;
+      if (value < best) {
+        best = value;
         best_alpha = alpha;
       }
     }
-    if (accepted == 0.0 && best_alpha > 0.0) {
-      accepted = best_alpha;
-      for (int i = 0; i < n; ++i) {
-        s.v_try[i] = s.v[i];
-        if (!model.pinned[i]) s.v_try[i] += best_alpha * s.dv.segment<3>(3 * i);
-      }
-      positions(model, s, eq, state.x, s.v_try, s.x_try);
-      compute_forces(model, s.x_try, s.v_try, eq.t_force, s.f_try, plan, threads);
-      r = residual_norm(model, s, eq, s.v_try, s.f_try);
-    }
-    report.seconds_residual += processor_seconds_since(t0);
-    report.step_lengths.push_back(accepted);
-    report.residuals.push_back(r);
     if (accepted == 0.0) {
-      // The direction does not reduce the residual: keep the current iterate. After the
-      // first iteration (linearized at the start of the step) Newton continues from the
-      // current iterate; after a later one it stops.
-      if (k == 0) continue;
-      break;
+      report.line_search_failed = best_alpha == 0.0;
+      accepted = best_alpha > 0.0 ? best_alpha : (k == 0 ? 0.0 : 1.0);
     }
-    std::swap(s.v, s.v_try);
-    std::swap(s.x, s.x_try);
-    std::swap(f, s.f_try);
+    for (int i = 0; i < n; ++i) {
+      if (!model.pinned[i]) s.v[i] += accepted * s.dv.segment<3>(3 * i);
+    }
+    report.step_lengths.push_back(accepted);
+    report.seconds_residual += processor_seconds_since(t0);
+
+    // Vertices the new iterate puts inside an obstacle get contacts, and the iterate meets
+    // every constraint.
+    if (!s.placed.empty()) {
+      t0 = std::clock();
+      const Vec3List& x_end = end_positions(model, s, eq, state, s.v);
+      const int added = s.contacts.detect(model, s.placed, x_end, -kPenetrationTolerance);
+      contact_changes += added;
+      if (added > 0) {
+        s.contacts.set_targets(s.x_end_base, eq.beta_end);
+        s.contacts.project(s.v);
+      }
+      report.seconds_contact += processor_seconds_since(t0);
+    }
+    if (contact_changes > 0) report.contact_changes += 1;
+
+
+    t0 = std::clock();
+    evaluate(model, state, s, eq, plan, threads, s.v, s.x, s.f);
+    r = residual_norm(model, s, eq, s.v, s.f);
+    report.seconds_residual += processor_seconds_since(t0);
+    report.residuals.push_back(r);
+    settled = accepted == 1.0 && contact_changes == 0;
     report.converged = (r <= target);
+    // Converged with these contacts: sticking ones the friction cone cannot hold slide,
+    // sliding ones their friction turned back stick, and Newton goes on.
+    if (report.converged && settled && s.contacts.switch_modes(s.v) > 0) {
+      report.contact_changes += 1;
+      settled = false;
+      t0 = std::clock();
+      r = residual_norm(model, s, eq, s.v, s.f);
+      report.seconds_residual += processor_seconds_since(t0);
+      report.converged = (r <= target);
+    }
   }
   report.final_residual = r;
+  report.contacts = s.contacts.size();
+
+  report.stuck_contacts = s.contacts.stuck();
+  s.contacts.remember(s.v, release_impulses(model, eq, s));
+
+  // Vertices the passes left inside an obstacle (the step's collision stage moves them out).
+  if (!s.placed.empty()) {
+    const Vec3List& x_end = end_positions(model, s, eq, state, s.v);
+    for (int i = 0; i < n; ++i) {
+      if (model.pinned[i] || s.contacts.contact_of(i) >= 0) continue;
+      for (const PlacedObstacle& p : s.placed) {
+        if (p.closest(x_end[i]).distance < -kPenetrationTolerance) {
+          report.unresolved_contacts += 1;
+          break;
+        }
+      }
+    }
+  }
   ws.newton_iterations = report.newton_iterations;
   ws.cg_iterations = report.cg_iterations;
 }
@@ -399,29 +573,23 @@ ImplicitSolver& solver_of(Workspace& ws) {
 }
 
 // Saves x_n, v_n before the step; afterwards they become State::previous.
-void begin_step(const Model& model, const State& state, Workspace& ws, ImplicitSolver& s) {
+void begin_step(const Model& model, const State& state, ImplicitSolver& s) {
   const size_t n = static_cast<size_t>(model.num_vertices());
-  scratch_of(ws).f.resize(n);
-  s.f_lin.resize(n);
+  s.f.resize(n);
   s.f_try.resize(n);
   s.x_saved = state.x;
   s.v_saved = state.v;
 }
 
-void end_step(const Model& model, State& state, ImplicitSolver& s) {
+void end_step(State& state, ImplicitSolver& s, double h, double t) {
   std::swap(state.previous.x, s.x_saved);
   std::swap(state.previous.v, s.v_saved);
-  state.previous.step = state.step;
-  state.previous.dt = model.dt;
+  state.previous.t = t;
+  state.previous.dt = h;
 }
 
-// Backward Euler in velocity form: x_base = x_n, v_base = v_n, beta = h.
-void backward_euler_stage(const Model& model, State& state, Workspace& ws, ImplicitSolver& s) {
-  const double h = model.dt;
-  s.x_base = state.x;
-  s.v_base = state.v;
-  s.v = state.v;
-  newton_solve(model, state, ws, s, StepEquation{h, state.t + h});
+// The new state of backward Euler and BDF-2, whose unknown is v_{n+1}.
+void take_velocities(const Model& model, const ImplicitSolver& s, State& state) {
   for (int i = 0; i < model.num_vertices(); ++i) {
     if (model.pinned[i]) continue;
     state.v[i] = s.v[i];
@@ -429,85 +597,221 @@ void backward_euler_stage(const Model& model, State& state, Workspace& ws, Impli
   }
 }
 
-}  // namespace
+// Backward Euler in velocity form: x_base = x_n, v_base = v_n, beta = h.
+void backward_euler_stage(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
+                          double h, double t) {
+  s.x_base = state.x;
+  s.v_base = state.v;
+  s.x_end_base = state.x;
+  s.v = state.v;
+  newton_solve(model, state, ws, s, StepEquation{h, t, h, t + h, h, t + h, 1.0});
+  take_velocities(model, s, state);
+}
 
 // Eq. 11 of the paper, v_{n+1} = v_n + h M^-1 f(x_{n+1}, v_{n+1}), x_{n+1} = x_n + h v_{n+1}.
-const ImplicitReport& backward_euler(const Model& model, State& state, Workspace& ws) {
+void backward_euler_step(const Model& model, State& state, Workspace& ws, double h, double t) {
   ImplicitSolver& s = solver_of(ws);
-  begin_step(model, state, ws, s);
-  backward_euler_stage(model, state, ws, s);
-  end_step(model, state, s);
-  return s.report;
+  begin_step(model, state, s);
+  backward_euler_stage(model, state, ws, s, h, t);
+  end_step(state, s, h, t);
 }
 
 // BDF-2: x_{n+1} = 4/3 x_n - 1/3 x_{n-1} + 2/3 h v_{n+1},
 //        v_{n+1} = 4/3 v_n - 1/3 v_{n-1} + 2/3 h M^-1 f(x_{n+1}, v_{n+1}).
-// Started (and restarted whenever the previous state is not the one of the step before,
-// with the same h and model) by one backward Euler step.
-const ImplicitReport& bdf2(const Model& model, State& state, Workspace& ws) {
+// Started (and restarted whenever the state's history is not the step before, of the same
+// size) by one backward Euler step.
+void bdf2_step(const Model& model, State& state, Workspace& ws, double h, double t) {
   ImplicitSolver& s = solver_of(ws);
   const int n = model.num_vertices();
-  const StepHistory& previous = state.previous;
-  const bool history = has_history(model, state);
-  begin_step(model, state, ws, s);
+  const bool history = has_history(model, state, h, t);
+  begin_step(model, state, s);
   if (!history) {
-    backward_euler_stage(model, state, ws, s);
+    backward_euler_stage(model, state, ws, s, h, t);
   } else {
-    const double h = model.dt;
+    const StepHistory& previous = state.previous;
     s.x_base.resize(n);
     s.v_base.resize(n);
     for (int i = 0; i < n; ++i) {
       s.x_base[i] = (4.0 / 3.0) * state.x[i] - (1.0 / 3.0) * previous.x[i];
       s.v_base[i] = (4.0 / 3.0) * state.v[i] - (1.0 / 3.0) * previous.v[i];
     }
+    s.x_end_base = s.x_base;
     s.v = state.v;
-    newton_solve(model, state, ws, s, StepEquation{2.0 * h / 3.0, state.t + h});
-    for (int i = 0; i < n; ++i) {
-      if (model.pinned[i]) continue;
-      state.v[i] = s.v[i];
-      state.x[i] = s.x[i];
-    }
+    const double beta = 2.0 * h / 3.0;
+    newton_solve(model, state, ws, s, StepEquation{h, t, beta, t + h, beta, t + h, 1.0});
+    take_velocities(model, s, state);
   }
-  end_step(model, state, s);
-  return s.report;
+  end_step(state, s, h, t);
 }
 
 // Implicit midpoint: v_{n+1} = v_n + h M^-1 f((x_n + x_{n+1})/2, (v_n + v_{n+1})/2),
 // x_{n+1} = x_n + h (v_n + v_{n+1})/2. With the midpoint velocity w = (v_n + v_{n+1})/2
-// this is a backward Euler step of h/2 for w: M (w - v_n) = h/2 f(x_n + h/2 w, w).
-const ImplicitReport& implicit_midpoint(const Model& model, State& state, Workspace& ws) {
+// this is a backward Euler step of h/2 for w: M (w - v_n) = h/2 f(x_n + h/2 w, w); the
+// step ends at x_n + h w. A vertex in contact keeps no velocity into its obstacle: the
+// rule's reflection 2 w - v_n would bounce it off.
+void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, double h,
+                            double t) {
   ImplicitSolver& s = solver_of(ws);
-  begin_step(model, state, ws, s);
-  const double h = model.dt;
+  begin_step(model, state, s);
   s.x_base = state.x;
   s.v_base = state.v;
+  s.x_end_base = state.x;
   s.v = state.v;
-  newton_solve(model, state, ws, s, StepEquation{0.5 * h, state.t + 0.5 * h, 0.5});
+  newton_solve(model, state, ws, s, StepEquation{h, t, 0.5 * h, t + 0.5 * h, h, t + h, 0.5});
   for (int i = 0; i < model.num_vertices(); ++i) {
     if (model.pinned[i]) continue;
     state.x[i] += h * s.v[i];
     state.v[i] = 2.0 * s.v[i] - state.v[i];
   }
-  end_step(model, state, s);
-  return s.report;
+  for (const VertexContact& c : s.contacts.contacts()) {
+    Vec3& v = state.v[c.vertex];
+    const double approach = c.normal.dot(v - c.surface_velocity);
+    if (approach < 0.0) v -= approach * c.normal;
+  }
+  end_step(state, s, h, t);
+}
+
+void method_step(const Model& model, State& state, Workspace& ws, double h, double t) {
+  switch (model.integrator) {
+    case Integrator::Bdf2:
+      bdf2_step(model, state, ws, h, t);
+      break;
+    case Integrator::ImplicitMidpoint:
+      implicit_midpoint_step(model, state, ws, h, t);
+      break;
+    default:
+      backward_euler_step(model, state, ws, h, t);
+      break;
+  }
+}
+
+}  // namespace
+
+const ImplicitReport& backward_euler(const Model& model, State& state, Workspace& ws) {
+  backward_euler_step(model, state, ws, model.dt, state.t);
+  return *last_implicit_report(ws);
+}
+
+const ImplicitReport& bdf2(const Model& model, State& state, Workspace& ws) {
+  bdf2_step(model, state, ws, model.dt, state.t);
+  return *last_implicit_report(ws);
+}
+
+const ImplicitReport& implicit_midpoint(const Model& model, State& state, Workspace& ws) {
+  implicit_midpoint_step(model, state, ws, model.dt, state.t);
+  return *last_implicit_report(ws);
+}
+
+int implicit_substeps(const Model& model, const State& state) {
+  const double h = model.dt;
+  double rate = 0.0;  // 1/s: a speed relative to a length
+  double edges = 0.0;  // sum of rest edge lengths, m
+  for (int k = 0; k < model.num_triangles(); ++k) {
+    const Tri& tri = model.triangles[k];
+    for (int e = 0; e < 3; ++e) {
+      const int a = tri[e], b = tri[(e + 1) % 3];
+      edges += (model.rest_uv[a] - model.rest_uv[b]).norm();
+      const double length = (state.x[a] - state.x[b]).norm();
+      if (length > 0.0) rate = std::max(rate, (state.v[a] - state.v[b]).norm() / length);
+    }
+  }
+  // Vertices that may reach an obstacle within the step, by their approach speed.
+  if (!model.obstacles.empty() && edges > 0.0) {
+    const double edge = edges / (3.0 * model.num_triangles());  // m, mean rest edge
+    const double fall = model.gravity ? 0.5 * model.gravity->norm() * h * h : 0.0;  // m
+    for (const Obstacle& ob : model.obstacles) {
+      const PlacedObstacle placed = place_obstacle(ob, state.t + h);
+      for (int i = 0; i < model.num_vertices(); ++i) {
+        if (model.pinned[i]) continue;
+        const SurfacePoint p = placed.closest(state.x[i]);
+        const double approach = -p.normal.dot(state.v[i] - p.velocity);  // m/s
+        if (approach <= 0.0) continue;
+        if (p.distance - ob.thickness < approach * h + fall) rate = std::max(rate, approach / edge);
+      }
+    }
+  }
+  const double substeps = std::ceil(h * rate / kSubstepMotion);
+  return static_cast<int>(std::clamp(substeps, 1.0, static_cast<double>(kMaxSubsteps)));
 }
 
 const ImplicitReport* last_implicit_report(const Workspace& ws) {
   return ws.scratch && ws.scratch->implicit ? &ws.scratch->implicit->report : nullptr;
 }
 
-void integrate_implicit(const Model& model, State& state, Workspace& ws) {
-  switch (model.integrator) {
-    case Integrator::Bdf2:
-      bdf2(model, state, ws);
-      break;
-    case Integrator::ImplicitMidpoint:
-      implicit_midpoint(model, state, ws);
-      break;
-    default:
-      backward_euler(model, state, ws);
-      break;
+// One substep of h from t, with the collision stage (cloth_contact.h) when the model needs
+// it. The stage corrects velocities (and so positions) after a solve; applied alone to an
+// implicit step of this size, its corrections (millimetres near an obstacle's edge) are
+// answered by no other vertex and stretch the membrane, measured as spikes of elastic
+// energy. So the substep is solved again from its start with the stage's velocity changes
+// given as impulses, which the rest of the cloth answers within the solve, and the stage
+// then runs once more on that result. The impulses are the stage's own (outward from
+// obstacles, equal and opposite between layers), so the substep gains no momentum the
+// stage did not give.
+void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s, double h,
+             double t, bool stage) {
+  s.kicks.clear();
+  if (!stage) {
+    method_step(model, state, ws, h, t);
+    return;
   }
+  const State start = state;
+  const ContactSet contacts = s.contacts;
+  method_step(model, state, ws, h, t);
+  int newton = ws.newton_iterations, cg = ws.cg_iterations;
+  const Vec3List solved = state.v;
+  run_collision_stage(model, t, h, start.x, state, ws);
+  bool kicked = false;
+  s.kicks.assign(model.num_vertices(), Vec3::Zero());
+  for (int i = 0; i < model.num_vertices(); ++i) {
+    if (model.pinned[i]) continue;
+    s.kicks[i] = state.v[i] - solved[i];
+    kicked = kicked || s.kicks[i] != Vec3::Zero();
+  }
+  if (kicked) {
+    state = start;
+    s.contacts = contacts;
+    method_step(model, state, ws, h, t);
+    newton += ws.newton_iterations;
+    cg += ws.cg_iterations;
+    run_collision_stage(model, t, h, start.x, state, ws);
+  }
+  s.kicks.clear();
+  ws.newton_iterations = newton;
+  ws.cg_iterations = cg;
+}
+
+// A substep whose Newton solve neither converged nor reduced the residual to this fraction
+// of its start is not kept: the step is taken again in twice as many substeps.
+constexpr double kRetryReduction = 0.01;
+
+void integrate_implicit(const Model& model, State& state, Workspace& ws) {
+  ImplicitSolver& s = solver_of(ws);
+  const bool stage = needs_cloth_contact(model);
+  int substeps = implicit_substeps(model, state);
+  int newton = 0, cg = 0;
+  for (;;) {
+    const State start = state;
+    const ContactSet contacts = s.contacts;
+    const double h = model.dt / substeps;
+    const bool last_try = substeps >= kMaxSubsteps;
+    ws.contact = ContactStats{};
+    ws.contact_seconds = 0.0;
+    bool kept = true;
+    for (int k = 0; k < substeps && (kept || last_try); ++k) {
+      substep(model, state, ws, s, h, state.t + k * h, stage);
+      newton += ws.newton_iterations;
+      cg += ws.cg_iterations;
+      const ImplicitReport& r = s.report;
+      kept = kept && (r.converged || r.final_residual <= kRetryReduction * r.initial_residual);
+    }
+    if (kept || last_try) break;
+    state = start;
+    s.contacts = contacts;
+    substeps = std::min(2 * substeps, kMaxSubsteps);
+  }
+  ws.newton_iterations = newton;
+  ws.cg_iterations = cg;
+  ws.substeps = substeps;
 }
 
 }  // namespace tissu

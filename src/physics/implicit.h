@@ -1,9 +1,11 @@
 // Implicit integrators: backward Euler (the paper's eq. 11), BDF-2 and implicit midpoint,
-// all solved in velocity form with Newton's method, the analytic force Jacobian
-// (compute_force_jacobian), preconditioned conjugate gradients (sparse Cholesky or block
-// Jacobi preconditioner, Model::implicit.linear_solver) and a
-// backtracking line search on the nonlinear residual. Pinned vertices are constraints
-// removed from the solve. Equations and choices: docs/implicit.md.
+// all solved in velocity form with Newton's method, the analytic force Jacobian written
+// straight into the step's matrix (SystemMatrix), preconditioned conjugate gradients
+// (sparse Cholesky or block Jacobi preconditioner, Model::implicit.linear_solver), contact
+// with obstacles as velocity constraints inside the solve (ContactSet) and a backtracking
+// line search on the incremental potential or the residual (Model::implicit.line_search).
+// Pinned vertices are constraints removed from the solve. Equations and choices:
+// docs/implicit.md.
 //
 // Each method solves, for the unknown velocity v (one 3-vector per free vertex),
 //   g(v) = M (v - v_base) - beta f(x_base + beta v, v, t_f) = 0             (kg m/s)
@@ -27,37 +29,59 @@ namespace tissu {
 // What the Newton solve of one step did. Residuals are |g|_{M^-1} = sqrt(sum |g_i|^2 / m_i)
 // over the free vertices (sqrt(kg) m/s: the velocity error in the kinetic-energy norm).
 struct ImplicitReport {
-  int newton_iterations = 0;      // linear solves performed
-  int cg_iterations = 0;          // total over the Newton iterations
+  int newton_iterations = 0;      // Newton iterations (system matrices assembled)
+  int linear_solves = 0;          // PCG solves (one per Newton iteration)
+  int cg_iterations = 0;          // total over the solves
   int factorizations = 0;         // Cholesky factorizations (linear_solver cholesky)
   bool converged = false;         // final residual <= newton_tolerance * initial residual
   double initial_residual = 0.0;  // at the initial guess v = v_n
   double final_residual = 0.0;
   std::vector<double> residuals;     // initial, then after each Newton iteration
-  std::vector<double> step_lengths;  // line-search step per iteration (0 = step rejected)
-  std::vector<int> cg_per_iteration;
+  std::vector<double> step_lengths;  // line-search step per iteration
+  std::vector<int> cg_per_iteration;  // per solve
   bool cg_failed = false;  // some linear solve missed cg_tolerance (its result was
                            // still used, guarded by the line search)
+  bool line_search_failed = false;  // some direction decreased the merit at no length
+                                    // tried (it was then taken whole)
+  int contacts = 0;                 // vertices in contact at the end of the step
+  int stuck_contacts = 0;           // of those, held by friction
+  int contact_changes = 0;          // Newton iterations after which the contacts changed
+  int unresolved_contacts = 0;      // vertices left inside an obstacle (moved out by the
+                                    // step's collision stage)
   // Processor time of the stages, s (std::clock; profiling, not used by the method).
-  double seconds_jacobian = 0.0;  // compute_force_jacobian + assembly of the system matrix
+  double seconds_jacobian = 0.0;  // assembly of the system matrix
   double seconds_preconditioner = 0.0;
   double seconds_cg = 0.0;
   double seconds_residual = 0.0;  // force evaluations for residuals and the line search
+  double seconds_contact = 0.0;   // contact detection and constraint updates
 };
 
-// One step of each method (model.dt, model.implicit options). Advances state.x and
-// state.v, leaves state.t and state.step to the caller (step() advances them). Pinned
-// vertices are not touched. Records the statistics in ws (newton_iterations,
+// One step of each method (model.dt from state.t, model.implicit options). Advances
+// state.x and state.v, leaves state.t and state.step to the caller (step() advances them).
+// Pinned vertices are not touched. Records the statistics in ws (newton_iterations,
 // cg_iterations) and returns the full report (valid until the next implicit step on ws).
 const ImplicitReport& backward_euler(const Model& model, State& state, Workspace& ws);
 const ImplicitReport& bdf2(const Model& model, State& state, Workspace& ws);
 const ImplicitReport& implicit_midpoint(const Model& model, State& state, Workspace& ws);
 
-// The report of the last implicit step taken with ws (through step() or the functions
+// The report of the last implicit (sub)step taken with ws (through step() or the functions
 // above); null before the first.
 const ImplicitReport* last_implicit_report(const Workspace& ws);
 
-// The step of model.integrator (BackwardEuler, Bdf2 or ImplicitMidpoint).
+// Substeps: a step of model.dt is solved as n equal substeps so that no vertex moves more
+// than kSubstepMotion of an edge relative to its neighbours in one solve, where one Newton
+// iteration is no longer a good linearization (impacts, whipping): n = ceil(dt r /
+// kSubstepMotion), with r (1/s) the largest of |v_a - v_b| / |x_a - x_b| over the edges
+// and, for vertices that may reach an obstacle within the step, their approach speed over
+// the mean rest edge length; at most kMaxSubsteps.
+constexpr double kSubstepMotion = 0.5;
+constexpr int kMaxSubsteps = 16;
+int implicit_substeps(const Model& model, const State& state);
+
+// The step of model.integrator (BackwardEuler, Bdf2 or ImplicitMidpoint) over model.dt, in
+// implicit_substeps(model, state) substeps; a substep whose Newton solve neither converged
+// nor reduced its residual tenfold has the step taken again in twice as many substeps (up
+// to kMaxSubsteps). ws holds the totals over the substeps and attempts, and the count kept.
 void integrate_implicit(const Model& model, State& state, Workspace& ws);
 
 }  // namespace tissu

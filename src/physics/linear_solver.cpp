@@ -148,6 +148,7 @@ void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
   source_.clear();
   dropped_.clear();
   solved_.assign(dofs, 0);
+  diagonal_block_.assign(9 * static_cast<size_t>(n), -1);
   for (int i = 0; i < n; ++i) {
     for (int a = 0; a < 3; ++a) {
       const Eigen::Index R = 3 * i + a;
@@ -167,6 +168,10 @@ void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
         entries.emplace_back(R, -1);
       }
       for (const auto& [C, index] : entries) {
+        if (C / 3 == i && index >= 0) {
+          diagonal_block_[9 * static_cast<size_t>(i) + 3 * a + C % 3] =
+              static_cast<int64_t>(source_.size());
+        }
         if (C == R) {
           // Diagonal-only blocks of this row are dropped; their magnitudes go here.
           for (int d = A.diagonal_only_begin(i); d < A.diagonal_only_end(i); ++d) {
@@ -192,12 +197,21 @@ void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
   pattern_id_ = A.pattern_id();
 }
 
-bool CholeskyPreconditioner::compute(const BlockSparseMatrix& A) {
+bool CholeskyPreconditioner::compute(const BlockSparseMatrix& A,
+                                     const std::vector<DiagonalAddition>& additions) {
   if (pattern_id_ != A.pattern_id()) analyze(A);
   double* values = lower_.valuePtr();
   const std::vector<double>& a = A.values();
   for (size_t k = 0; k < source_.size(); ++k) values[k] = source_[k] >= 0 ? a[source_[k]] : 1.0;
   for (const auto& [diagonal, index] : dropped_) values[diagonal] += std::fabs(a[index]);
+  for (const DiagonalAddition& add : additions) {
+    for (int c = 0; c < 3; ++c) {
+      for (int r = c; r < 3; ++r) {
+        const int64_t k = diagonal_block_[9 * static_cast<size_t>(add.vertex) + 3 * c + r];
+        if (k >= 0) values[k] += add.block(r, c);
+      }
+    }
+  }
   llt_.factorize(lower_);
   valid_ = llt_.info() == Eigen::Success;
   return valid_;
@@ -211,27 +225,35 @@ void CholeskyPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z)
 }
 
 // Hestenes-Stiefel conjugate gradients with a left preconditioner (Saad, "Iterative
-// Methods for Sparse Linear Systems", 2nd ed., Algorithm 9.1).
+// Methods for Sparse Linear Systems", 2nd ed., Algorithm 9.1); with a filter, every
+// vector it builds is kept in the filter's range.
 CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Eigen::VectorXd& b,
                    double tolerance, int max_iterations, Eigen::VectorXd& x, CgWorkspace& work,
-                   const Eigen::VectorXd* weights) {
+                   const Eigen::VectorXd* weights, const SolveFilter* filter) {
   CgResult result;
   auto norm = [weights](const Eigen::VectorXd& y) {
     return weights ? std::sqrt(y.cwiseAbs2().dot(*weights)) : y.norm();
   };
-  const double b_norm = norm(b);
+  auto keep = [filter](Eigen::VectorXd& y) {
+    if (filter) filter->apply(y);
+  };
+  Eigen::VectorXd& r = work.r;
+  Eigen::VectorXd& z = work.z;
+  Eigen::VectorXd& p = work.p;
+  Eigen::VectorXd& Ap = work.Ap;
+  r = b;
+  keep(r);
+  const double b_norm = norm(r);
   if (x.size() != b.size()) x.setZero(b.size());
+  keep(x);
   if (b_norm == 0.0) {
     x.setZero();
     result.converged = true;
     return result;
   }
-  Eigen::VectorXd& r = work.r;
-  Eigen::VectorXd& z = work.z;
-  Eigen::VectorXd& p = work.p;
-  Eigen::VectorXd& Ap = work.Ap;
   A.multiply(x, Ap);
   r = b - Ap;
+  keep(r);
   double r_norm = norm(r);
   const double target = tolerance * b_norm;
   if (r_norm <= target) {
@@ -240,10 +262,12 @@ CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Ei
     return result;
   }
   P.apply(r, z);
+  keep(z);
   p = z;
   double rz = r.dot(z);
   while (result.iterations < max_iterations) {
     A.multiply(p, Ap);
+    keep(Ap);
     const double pAp = p.dot(Ap);
     if (!(pAp > 0.0)) {
       result.breakdown = true;
@@ -259,6 +283,7 @@ CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Ei
       break;
     }
     P.apply(r, z);
+    keep(z);
     const double rz_next = r.dot(z);
     p = z + (rz_next / rz) * p;
     rz = rz_next;

@@ -108,10 +108,19 @@ class BlockJacobiPreconditioner : public Preconditioner {
 // in one iteration; with bending in a few. Ordering and symbolic analysis are done once per
 // pattern, the numeric factorization on every compute(). Vertices without a diagonal
 // block get z = 0.
+// A 3x3 block added to a vertex's diagonal block before factorizing.
+struct DiagonalAddition {
+  int vertex = -1;
+  Mat3 block = Mat3::Zero();
+};
+
 class CholeskyPreconditioner : public Preconditioner {
  public:
-  // False when A is not positive definite (the factor is then unusable).
-  bool compute(const BlockSparseMatrix& A);
+  // Factorizes A plus the given diagonal additions (for a constrained solve: a large
+  // stiffness along each constrained direction, so that the factor approximates the inverse
+  // of the filtered system). False when that is not positive definite (the factor is then
+  // unusable).
+  bool compute(const BlockSparseMatrix& A, const std::vector<DiagonalAddition>& additions = {});
   void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;
   bool valid() const { return valid_; }
   // Pattern of the matrix last factorized (BlockSparseMatrix::pattern_id).
@@ -127,6 +136,8 @@ class CholeskyPreconditioner : public Preconditioner {
   std::vector<std::pair<int64_t, int64_t>> dropped_;  // (diagonal value of lower_, dropped
                                                       // entry's index in A.values())
   std::vector<uint8_t> solved_;        // (3V) 1 = coordinate in the system
+  std::vector<int64_t> diagonal_block_;  // (9V) value of lower_ holding entry (r, c), r >= c,
+                                         // of vertex i's diagonal block at 9 i + 3 c + r
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt_;
   bool valid_ = false;
 };
@@ -143,12 +154,23 @@ struct CgWorkspace {
   Eigen::VectorXd r, z, p, Ap;
 };
 
+// The directions a constrained solve keeps fixed: apply() zeroes them in a 3V vector (an
+// orthogonal projection S, per vertex).
+class SolveFilter {
+ public:
+  virtual ~SolveFilter() = default;
+  virtual void apply(Eigen::VectorXd& y) const = 0;
+};
+
 // Preconditioned conjugate gradients for symmetric positive definite A: solves A x = b to
 // |b - A x|_W <= tolerance |b|_W, starting from the x given (e.g. zero or a warm start),
 // where |y|_W^2 = sum_k w_k y_k^2 with the weights w (3V) when given, else the 2-norm.
-// Stops after max_iterations.
+// Stops after max_iterations. With a filter S it solves S A S x = S b for x = S x in the
+// range of S (the prefiltered PCG of Tamstorf, Jones & McCormick 2015, with homogeneous
+// constraints): the filtered directions of x stay zero, and the residual is measured on
+// the others.
 CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Eigen::VectorXd& b,
                    double tolerance, int max_iterations, Eigen::VectorXd& x, CgWorkspace& work,
-                   const Eigen::VectorXd* weights = nullptr);
+                   const Eigen::VectorXd* weights = nullptr, const SolveFilter* filter = nullptr);
 
 }  // namespace tissu

@@ -116,6 +116,26 @@ double membrane_energy(const Model& model, const Vec3List& x) {
   return total;
 }
 
+void triangle_energies(const Model& model, const Vec3List& x, std::vector<double>& energies) {
+  const Mat3 E = model.material.stiffness();
+  energies.resize(model.triangles.size());
+  for (size_t t = 0; t < model.triangles.size(); ++t) {
+    const Tri& tri = model.triangles[t];
+    energies[t] = triangle_energy(model.rest[t], E, x[tri[0]], x[tri[1]], x[tri[2]]);
+  }
+}
+
+double membrane_energy_change(const Model& model, const Vec3List& x,
+                              const std::vector<double>& before) {
+  const Mat3 E = model.material.stiffness();
+  double change = 0.0;
+  for (size_t t = 0; t < model.triangles.size(); ++t) {
+    const Tri& tri = model.triangles[t];
+    change += triangle_energy(model.rest[t], E, x[tri[0]], x[tri[1]], x[tri[2]]) - before[t];
+  }
+  return change;
+}
+
 double max_principal_strain(const Model& model, const Vec3List& x) {
   double worst = 0.0;
   for (size_t t = 0; t < model.triangles.size(); ++t) {

@@ -5,6 +5,8 @@
 // Optional strain-rate damping adds the viscous stress tau * E * de/dt.
 #pragma once
 
+#include <vector>
+
 #include "core/types.h"
 #include "physics/force_term.h"
 #include "physics/model.h"
@@ -28,6 +30,15 @@ void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* 
 
 // Total membrane energy, J.
 double membrane_energy(const Model& model, const Vec3List& x);
+
+// The energy of every triangle at x (T values), J.
+void triangle_energies(const Model& model, const Vec3List& x, std::vector<double>& energies);
+
+// The change of the membrane energy from the state whose triangle energies are `before`
+// to x, J, summed triangle by triangle (accurate where the change is small next to the
+// total).
+double membrane_energy_change(const Model& model, const Vec3List& x,
+                              const std::vector<double>& before);
 
 // Largest principal Green strain over all triangles (dimensionless).
 double max_principal_strain(const Model& model, const Vec3List& x);

@@ -68,11 +68,21 @@ enum class LinearSolver {
   BlockJacobiPcg,  // PCG with the 3x3 block-Jacobi preconditioner (no factorization)
 };
 
+// What the line search of each Newton iteration measures.
+enum class LineSearch {
+  Potential,  // the incremental potential (Gast & Schroeder 2014), non-conservative forces
+              // frozen at the iterate
+  Residual,   // the norm of the step equation's residual
+};
+
 struct ImplicitOptions {
   LinearSolver linear_solver = LinearSolver::Cholesky;
-  int max_newton_iterations = 1;   // 1 = one Newton iteration (Baraff & Witkin)
-  double newton_tolerance = 1e-6;  // relative residual of the nonlinear step
-  double cg_tolerance = 1e-8;      // relative residual of each linear solve
+  LineSearch line_search = LineSearch::Potential;
+  int max_newton_iterations = 8;   // 1 = one Newton iteration (Baraff & Witkin); a step
+                                   // the line search shortened, or whose contacts changed,
+                                   // gets a few more (docs/implicit.md)
+  double newton_tolerance = 1e-2;  // relative residual of the nonlinear step
+  double cg_tolerance = 1e-3;      // relative residual of each linear solve
 };
 
 enum class Integrator {
@@ -119,13 +129,13 @@ struct Model {
   int num_triangles() const { return static_cast<int>(triangles.size()); }
 };
 
-// The state one step back, recorded by the implicit integrators: BDF-2, a two-step
+// The state one (sub)step back, recorded by the implicit integrators: BDF-2, a two-step
 // method, builds on it. Part of the state, so a state saved and restored carries it.
 struct StepHistory {
-  Vec3List x;           // (V) positions at step `step`, m
-  Vec3List v;           // (V) velocities at step `step`, m/s
-  long long step = -1;  // the step they belong to; -1: none recorded
-  double dt = 0.0;      // the step size taken from them, s
+  Vec3List x;       // (V) positions at time t, m
+  Vec3List v;       // (V) velocities at time t, m/s
+  double t = 0.0;   // s
+  double dt = 0.0;  // the step size taken from them, s; 0: none recorded
 };
 
 struct State {

@@ -164,6 +164,19 @@ double Obstacle::signed_distance_from(const Vec3& p, const Vec3& c, Vec3* normal
   return 0.0;
 }
 
+SurfacePoint PlacedObstacle::closest(const Vec3& p, double reach) const {
+  SurfacePoint s;
+  s.distance = obstacle->signed_distance_from(p, center, &s.normal, rotation, reach);
+  const Vec3 on_surface = p - s.distance * s.normal;
+  s.velocity = velocity + angular_velocity.cross(on_surface - center);
+  return s;
+}
+
+PlacedObstacle place_obstacle(const Obstacle& obstacle, double t) {
+  return PlacedObstacle{&obstacle, obstacle.center_at(t), obstacle.velocity(t),
+                        obstacle.rotation(t), obstacle.angular_velocity(t)};
+}
+
 const char* obstacle_kind_name(ObstacleKind kind) {
   switch (kind) {
     case ObstacleKind::Sphere: return "sphere";

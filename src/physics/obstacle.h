@@ -73,4 +73,26 @@ struct Obstacle {
 
 const char* obstacle_kind_name(ObstacleKind kind);
 
+// The point of an obstacle's surface closest to a given point.
+struct SurfacePoint {
+  double distance = 0.0;         // signed distance of the given point, m (negative inside)
+  Vec3 normal = Vec3::UnitZ();   // outward unit normal
+  Vec3 velocity = Vec3::Zero();  // velocity of the surface there, m/s
+};
+
+// An obstacle placed at one time: where it is and how it moves then.
+struct PlacedObstacle {
+  const Obstacle* obstacle = nullptr;
+  Vec3 center = Vec3::Zero();    // centre or plane point, m
+  Vec3 velocity = Vec3::Zero();  // rigid velocity of the centre, m/s
+  Mat3 rotation = Mat3::Identity();      // meshes: turn about the centre since t = 0
+  Vec3 angular_velocity = Vec3::Zero();  // rad/s
+
+  // The closest surface point to p (a mesh: exact within `reach` of the surface, a lower
+  // bound >= reach beyond it).
+  SurfacePoint closest(const Vec3& p, double reach = INFINITY) const;
+};
+
+PlacedObstacle place_obstacle(const Obstacle& obstacle, double t);
+
 }  // namespace tissu

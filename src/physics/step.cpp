@@ -1,11 +1,12 @@
 #include "physics/step.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
+#include "physics/diagnostics.h"
 #include "physics/force_plan.h"
 #include "physics/forces.h"
 #include "physics/implicit.h"
@@ -78,19 +79,32 @@ double distance_if_near(const PlacedObstacle& placed, const Vec3& p, Vec3* norma
   return ob.signed_distance_from(p, placed.center, normal, placed.rotation, ob.thickness);
 }
 
-// Section 2.3 with the projection corrected (notes.md), for one vertex: closer to an
-// obstacle than its thickness, it moves out to that distance along the normal at the
-// closest surface point; the inward normal velocity relative to the obstacle's surface is
-// removed and Coulomb friction slows the tangential velocity by mu * |removed normal
-// part|. Overlapping obstacles: repeated until it is clear of all (at most four passes).
-void collide_vertex(const std::vector<PlacedObstacle>& obstacles, Vec3& x, Vec3& v) {
+// How the collision stage treats a vertex closer to an obstacle than its thickness.
+struct CollisionResponse {
+  double tolerance = 0.0;  // m: shortfalls up to this are left alone
+  bool friction = true;    // Coulomb friction from the removed normal velocity
+};
+
+// After an explicit step: section 2.3 with the projection corrected (notes.md).
+constexpr CollisionResponse kExplicitResponse{0.0, true};
+// After an implicit step, which kept its contacts on their tangent planes: only a vertex
+// its contact passes left inside is moved out (without friction, which the solve applies).
+constexpr CollisionResponse kImplicitResponse{1e-9, false};
+
+// For one vertex: closer to an obstacle than its thickness, it moves out to that distance
+// along the normal at the closest surface point; the inward normal velocity relative to
+// the obstacle is removed and (with friction) Coulomb friction slows the tangential
+// velocity by mu * |removed normal part|. Overlapping obstacles: repeated until it is
+// clear of all (at most four passes).
+void collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
+                    Vec3& x, Vec3& v) {
   constexpr int kPasses = 4;
   for (int pass = 0; pass < kPasses; ++pass) {
     bool moved = false;
     for (const PlacedObstacle& placed : obstacles) {
       Vec3 n;
       const double shortfall = placed.obstacle->thickness - distance_if_near(placed, x, &n);
-      if (!(shortfall > 0.0)) continue;
+      if (!(shortfall > response.tolerance)) continue;
       moved = true;
       x += shortfall * n;
       const Vec3 surface_velocity =
@@ -99,9 +113,11 @@ void collide_vertex(const std::vector<PlacedObstacle>& obstacles, Vec3& x, Vec3&
       const double vn = relative.dot(n);
       if (vn >= 0.0) continue;
       Vec3 tangential = relative - vn * n;
-      const double vt = tangential.norm();
-      const double slow = placed.obstacle->friction * (-vn);
-      tangential = (vt <= slow) ? Vec3::Zero() : Vec3(tangential * (1.0 - slow / vt));
+      if (response.friction) {
+        const double vt = tangential.norm();
+        const double slow = placed.obstacle->friction * (-vn);
+        tangential = (vt <= slow) ? Vec3::Zero() : Vec3(tangential * (1.0 - slow / vt));
+      }
       v = surface_velocity + tangential;
     }
     if (!moved) break;
@@ -110,9 +126,7 @@ void collide_vertex(const std::vector<PlacedObstacle>& obstacles, Vec3& x, Vec3&
 
 void place_obstacles(const Model& model, double t, std::vector<PlacedObstacle>& placed) {
   placed.clear();
-  for (const Obstacle& ob : model.obstacles) {
-    placed.push_back({&ob, ob.center_at(t), ob.velocity(t), ob.rotation(t), ob.angular_velocity(t)});
-  }
+  for (const Obstacle& ob : model.obstacles) placed.push_back(place_obstacle(ob, t));
 }
 
 void check_vertex(int i, const Vec3& x, const Vec3& v, BlockCheck& check) {
@@ -156,13 +170,50 @@ std::optional<Divergence> divergence_of(const Model& model, const State& state,
   return std::nullopt;
 }
 
+double total_energy(const Model& model, const State& state) {
+  return kinetic_energy(model, state.v) + elastic_energy(model, state.x) +
+         gravity_potential(model, state.x);
+}
+
+// Energy beyond the workspace's limit: a divergence naming the energy and the limit.
+std::optional<Divergence> energy_divergence(const Model& model, const State& state,
+                                            double limit) {
+  const double energy = total_energy(model, state);
+  if (energy <= limit) return std::nullopt;
+  std::ostringstream reason;
+  reason.precision(3);
+  reason << "energy " << energy << " J exceeds the " << limit
+         << " J this scene can reach (its start plus ten times what gravity, wind and moving "
+            "obstacles supply)";
+  return Divergence{state.step, state.t, -1, reason.str()};
+}
+
 }  // namespace
+
+double energy_limit(const Model& model, const State& start) {
+  double mass = 0.0;
+  for (double m : model.mass) mass += m;
+  Eigen::AlignedBox3d box;
+  for (const Vec3& p : start.x) box.extend(p);
+  const double size = start.x.empty() ? 0.0 : box.diagonal().norm();  // m
+  const double g = model.gravity ? model.gravity->norm() : 0.0;
+  const double wind = model.wind ? model.wind->velocity.norm() * (1.0 + std::fabs(model.wind->gust_amplitude)) : 0.0;
+  double obstacle_speed = 0.0;
+  for (const Obstacle& ob : model.obstacles) {
+    double speed = ob.motion.velocity.norm();
+    if (ob.motion.period > 0.0) speed += ob.motion.amplitude.norm() * 2.0 * M_PI / ob.motion.period;
+    obstacle_speed = std::max(obstacle_speed, speed);
+  }
+  const double supply = mass * (g * size + 0.5 * wind * wind + 2.0 * obstacle_speed * obstacle_speed);
+  const double movable = kinetic_energy(model, start.v) + elastic_energy(model, start.x);
+  return total_energy(model, start) + 10.0 * (supply + movable) + 1e-12;
+}
 
 void resolve_collisions(const Model& model, double t, Vec3List& x, Vec3List& v) {
   std::vector<PlacedObstacle> placed;
   place_obstacles(model, t, placed);
   for (int i = 0; i < model.num_vertices(); ++i) {
-    if (!model.pinned[i]) collide_vertex(placed, x[i], v[i]);
+    if (!model.pinned[i]) collide_vertex(placed, kExplicitResponse, x[i], v[i]);
   }
 }
 
@@ -179,7 +230,11 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   const bool explicit_step = is_explicit(model.integrator);
   const int threads = force_threads(ws.threads, model);
   const bool contact_stage = needs_cloth_contact(model);
-  if (contact_stage) scratch.x_start = state.x;
+  if (contact_stage && explicit_step) scratch.x_start = state.x;
+  if (!scratch.has_energy_limit) {
+    scratch.energy_limit = energy_limit(model, state);
+    scratch.has_energy_limit = true;
+  }
 
   if (model.position_correction) scratch.x_old.resize(n);
   if (explicit_step) {
@@ -206,8 +261,9 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
       }
     }
     if (!scratch.placed.empty()) {
+      const CollisionResponse response = explicit_step ? kExplicitResponse : kImplicitResponse;
       for (int i = first; i < end; ++i) {
-        if (!model.pinned[i]) collide_vertex(scratch.placed, state.x[i], state.v[i]);
+        if (!model.pinned[i]) collide_vertex(scratch.placed, response, state.x[i], state.v[i]);
       }
     }
     for (int i = first; i < end; ++i) {
@@ -215,19 +271,21 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
     }
   });
 
-  // Cloth against itself and against mesh obstacles' features, around the integrator.
-  if (contact_stage) {
-    if (!scratch.contact) scratch.contact = std::make_shared<ClothContact>();
-    timespec start{}, end{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &start);
-    ws.contact = scratch.contact->resolve(model, state.t, h, scratch.x_start, state.x, state.v);
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &end);
-    ws.contact_seconds = (end.tv_sec - start.tv_sec) + 1e-9 * (end.tv_nsec - start.tv_nsec);
+  // Cloth against itself and against mesh obstacles' features, around the integrator (the
+  // implicit integrators run it inside their steps, see integrate_implicit).
+  if (contact_stage && explicit_step) {
+    ws.contact = ContactStats{};
+    ws.contact_seconds = 0.0;
+    run_collision_stage(model, state.t, h, scratch.x_start, state, ws);
   }
 
   state.step += 1;
   state.t = t_new;
-  return divergence_of(model, state, scratch.checks);
+  std::optional<Divergence> divergence = divergence_of(model, state, scratch.checks);
+  if (!divergence && (!explicit_step || state.step % kExplicitEnergyCheck == 0)) {
+    divergence = energy_divergence(model, state, scratch.energy_limit);
+  }
+  return divergence;
 }
 
 }  // namespace tissu

@@ -22,12 +22,22 @@ struct Divergence {
   std::string reason;  // "non-finite position", "speed 1.2e+03 m/s exceeds 100 m/s", ...
 };
 
-// Advances `state` by model.dt. Returns the divergence when the new state is non-finite or
-// runs away (a vertex faster than model.max_speed); the state is then left as computed.
+// Advances `state` by model.dt. Returns the divergence when the new state is non-finite,
+// runs away (a vertex faster than model.max_speed) or holds far more energy than the scene
+// can supply (see energy_limit); the state is then left as computed.
 std::optional<Divergence> step(const Model& model, State& state, Workspace& ws);
 
-// Collision stage on its own (section 2.3): pushes every free vertex inside an obstacle at
-// time t out to its surface and applies the velocity response.
+// The energy a run starting from `start` may reach before it counts as diverged, J: its
+// total energy (kinetic + elastic + gravity potential) at the start plus ten times the
+// start's kinetic and elastic energy and what the scene can supply, M (|g| L + W^2 / 2 +
+// 2 V^2), with M the cloth's mass, L the diagonal of its bounding box at the start, W the
+// fastest wind (gusts included) and V the fastest obstacle. Checked after every implicit
+// step and every kExplicitEnergyCheck explicit steps.
+double energy_limit(const Model& model, const State& start);
+constexpr int kExplicitEnergyCheck = 64;
+
+// Collision stage on its own (section 2.3): moves every free vertex closer to an obstacle
+// than its thickness at time t out to that distance and applies the velocity response.
 void resolve_collisions(const Model& model, double t, Vec3List& x, Vec3List& v);
 
 }  // namespace tissu

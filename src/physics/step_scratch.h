@@ -13,15 +13,6 @@ namespace tissu {
 
 struct ImplicitSolver;  // physics/implicit.cpp: Newton/PCG caches of the implicit steps
 
-// An obstacle placed at one time: its centre (or plane point) and rigid velocity.
-struct PlacedObstacle {
-  const Obstacle* obstacle = nullptr;
-  Vec3 center = Vec3::Zero();    // m
-  Vec3 velocity = Vec3::Zero();  // m/s
-  Mat3 rotation = Mat3::Identity();        // meshes: turn about the centre since t = 0
-  Vec3 angular_velocity = Vec3::Zero();    // rad/s
-};
-
 // What the divergence check found in one vertex block.
 struct BlockCheck {
   int first_bad = -1;           // first vertex with a non-finite position or velocity
@@ -39,6 +30,8 @@ struct StepScratch {
   std::shared_ptr<ImplicitSolver> implicit;  // created by the first implicit step
   std::shared_ptr<ClothContact> contact;     // collision stage, when the model needs it
   Vec3List x_start;                          // (V) positions at the step's start, m
+  double energy_limit = 0.0;  // J, of the state the workspace first stepped (energy_limit)
+  bool has_energy_limit = false;
 };
 
 // The workspace's scratch, created on first use.

@@ -15,9 +15,10 @@ struct StepScratch;  // physics/step_scratch.h: force plan, buffers, implicit so
 struct Workspace {
   // Threads a step may use (the calling thread included). Results do not depend on it.
   int threads = 1;
-  // Implicit solver statistics of the last step.
+  // Implicit solver statistics of the last step (totals over its substeps).
   int newton_iterations = 0;
   int cg_iterations = 0;
+  int substeps = 0;
   // The collision stage of the last step (cloth_contact.h) and its processor time, s.
   ContactStats contact;
   double contact_seconds = 0.0;

@@ -330,14 +330,19 @@ Scene parse_scene(const Json& doc, const std::string& file) {
   scene.integrator = parse_integrator(root);
   if (root.has("implicit")) {
     JsonReader im = root.object("implicit");
-    scene.implicit.max_newton_iterations =
-        static_cast<int>(im.integer("newton_iterations", 1, Range::between(1, 100)));
-    scene.implicit.newton_tolerance = im.number("newton_tolerance", 1e-6, Range::positive());
-    scene.implicit.cg_tolerance = im.number("cg_tolerance", 1e-8, Range::positive());
+    const ImplicitOptions defaults;
+    scene.implicit.max_newton_iterations = static_cast<int>(
+        im.integer("newton_iterations", defaults.max_newton_iterations, Range::between(1, 100)));
+    scene.implicit.newton_tolerance =
+        im.number("newton_tolerance", defaults.newton_tolerance, Range::positive());
+    scene.implicit.cg_tolerance = im.number("cg_tolerance", defaults.cg_tolerance, Range::positive());
     const std::string solver =
         im.choice("linear_solver", {"cholesky", "block_jacobi_pcg"}, "cholesky");
     scene.implicit.linear_solver =
         solver == "cholesky" ? LinearSolver::Cholesky : LinearSolver::BlockJacobiPcg;
+    const std::string search = im.choice("line_search", {"potential", "residual"}, "potential");
+    scene.implicit.line_search =
+        search == "potential" ? LineSearch::Potential : LineSearch::Residual;
     im.finish();
   }
   scene.max_speed = root.number("max_speed", 100.0, Range::positive());

@@ -449,7 +449,7 @@ TEST(History, Bdf2ResumesFromASavedStateWithAFreshWorkspace) {
   s.model.implicit.cg_tolerance = 1e-12;
   Workspace original;
   for (int k = 0; k < 10; ++k) ASSERT_FALSE(step(s.model, s.state, original).has_value());
-  ASSERT_EQ(s.state.previous.step + 1, s.state.step);
+  ASSERT_NEAR(s.state.previous.t + s.state.previous.dt, s.state.t, 1e-12);
   State resumed = s.state, restarted = s.state;
   restarted.previous = StepHistory{};
   Workspace fresh, fresh_too;
@@ -545,9 +545,19 @@ TEST(Newton, ConvergesAndNeverIncreasesTheResidual) {
     s.model.implicit.newton_tolerance = 1e-8;
     s.model.implicit.cg_tolerance = 1e-10;
     Workspace ws;
+    // Newton's tolerance is relative to the larger of the initial residual and the one
+    // gravity alone leaves over a step, beta |g| sqrt(sum m).
+    double free_mass = 0.0;
+    for (size_t i = 0; i < s.model.mass.size(); ++i) {
+      free_mass += s.model.pinned[i] ? 0.0 : s.model.mass[i];
+    }
+    const double beta = integrator == Integrator::Bdf2 ? 2.0 * h / 3.0
+                        : integrator == Integrator::ImplicitMidpoint ? h / 2.0 : h;
+    const double gravity_residual = beta * kG * std::sqrt(free_mass);
     for (int k = 0; k < 20; ++k) {
       const State before = s.state;
       ASSERT_FALSE(step(s.model, s.state, ws)) << integrator_name(integrator) << " step " << k;
+      ASSERT_EQ(ws.substeps, 1);
       const ImplicitReport& r = *last_implicit_report(ws);
       EXPECT_TRUE(r.converged) << integrator_name(integrator) << " step " << k;
       EXPECT_EQ(ws.newton_iterations, r.newton_iterations);
@@ -555,7 +565,11 @@ TEST(Newton, ConvergesAndNeverIncreasesTheResidual) {
       for (size_t q = 1; q < r.residuals.size(); ++q) {
         EXPECT_LE(r.residuals[q], r.residuals[q - 1]) << integrator_name(integrator);
       }
-      EXPECT_LE(r.final_residual, 1e-8 * r.initial_residual);
+      // BDF-2's first step is a backward Euler step.
+      const double scale = std::max(r.initial_residual,
+                                    k == 0 && integrator == Integrator::Bdf2 ? h * kG * std::sqrt(free_mass)
+                                                                             : gravity_residual);
+      EXPECT_LE(r.final_residual, 1e-8 * scale);
       if (integrator != Integrator::BackwardEuler) continue;
       // Independent check of the backward Euler equations at the new state:
       // M (v1 - v0) - h f(x1, v1, t1) = 0 and x1 = x0 + h v1.
@@ -572,7 +586,7 @@ TEST(Newton, ConvergesAndNeverIncreasesTheResidual) {
         g0 += (h * f0[i]).squaredNorm() / s.model.mass[i];
         EXPECT_LT((s.state.x[i] - before.x[i] - h * s.state.v[i]).norm(), 1e-15);
       }
-      EXPECT_LE(std::sqrt(g2), 1e-8 * std::sqrt(g0)) << "step " << k;
+      EXPECT_LE(std::sqrt(g2), 1e-8 * std::max(std::sqrt(g0), gravity_residual)) << "step " << k;
     }
   }
 }
@@ -643,11 +657,19 @@ TEST(Pins, PinnedVerticesStayExactlyFixed) {
   for (Integrator integrator :
        {Integrator::BackwardEuler, Integrator::Bdf2, Integrator::ImplicitMidpoint}) {
     for (int newton : {1, 20}) {
-      Hanging s = hanging_sheet(testing::test_material(), 0.2, 0.2, 5, 5, false, integrator, 0.01);
+      // Implicit midpoint keeps the stiff membrane modes' amplitude: converged at 10 ms it
+      // runs away on this soft sheet (the energy check stops it), at 2.5 ms it does not.
+      const bool midpoint = integrator == Integrator::ImplicitMidpoint;
+      const double dt = midpoint ? 0.0025 : 0.01;
+      Hanging s = hanging_sheet(testing::test_material(), 0.2, 0.2, 5, 5, false, integrator, dt);
       s.model.implicit.max_newton_iterations = newton;
       const Vec3 a = s.state.x[s.corner_a], b = s.state.x[s.corner_b];
       Workspace ws;
-      for (int k = 0; k < 50; ++k) ASSERT_FALSE(step(s.model, s.state, ws));
+      for (int k = 0; k < std::lround(0.5 / dt); ++k) {
+        const auto d = step(s.model, s.state, ws);
+        ASSERT_FALSE(d) << integrator_name(integrator) << ", " << newton << " Newton iterations, step "
+                        << k << ": " << d->reason;
+      }
       EXPECT_EQ(s.state.x[s.corner_a], a) << integrator_name(integrator);
       EXPECT_EQ(s.state.x[s.corner_b], b);
       EXPECT_EQ(s.state.v[s.corner_a], Vec3::Zero());

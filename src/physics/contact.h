@@ -1,0 +1,115 @@
+// Contact of cloth vertices with obstacles inside an implicit step (docs/implicit.md).
+//
+// Normal direction: a hard constraint that the conjugate gradients keep exactly (the
+// constrained direction is filtered out of the solve: Baraff & Witkin 1998; the
+// prefiltered PCG of Tamstorf, Jones & McCormick 2015). With x_end(v) = x_end_base +
+// beta_end v the vertex's position at the end of the step, n . x_end stays at the tangent
+// plane of the obstacle at its closest point, moved out by the obstacle's thickness:
+// n . v = target. The tangent plane lies outside a convex obstacle (sphere, cylinder,
+// plane), so a vertex kept on it never ends inside. The solve measures the normal impulse
+// J_n each contact applies. During a step contacts are only added (where the iterate
+// would put a vertex inside an obstacle), so the contact set cannot cycle; a contact that
+// pulls at the end of the step (J_n below minus a tenth of its vertex's weight impulse) is
+// released for the next step.
+//
+// Tangential direction: Coulomb friction from the normal impulse, inside the solve, with
+// each contact's mode fixed during a step and chosen from the end of the step before
+// (a one-step lag, so that the Newton iterations of a step see a smooth problem):
+// - stick: the tangential velocity equals the surface's (three constrained directions);
+//   the solve measures the tangential impulse J_t this needs;
+// - slide: a friction impulse acts against the sliding, mu J_n with the direction and J_n
+//   of the end of the step before (held fixed during the step).
+// Once the step's solve has converged, a sticking contact whose |J_t| exceeds mu J_n slides
+// and a sliding one that its friction turned back sticks, and the solve goes on (each
+// contact switches at most twice in a step, so the set settles). A new contact on an
+// obstacle with friction sticks.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "core/types.h"
+#include "physics/model.h"
+#include "physics/obstacle.h"
+
+namespace tissu {
+
+enum class ContactMode : uint8_t { Stick, Slide };
+
+struct VertexContact {
+  int vertex = -1;
+  int obstacle = -1;                     // index in Model::obstacles
+  Vec3 normal = Vec3::UnitZ();           // outward unit normal of the tangent plane
+  double offset = 0.0;                   // the plane: normal . x_end >= offset, m
+  Vec3 surface_velocity = Vec3::Zero();  // m/s
+  double friction = 0.0;                 // Coulomb coefficient
+  double target = 0.0;                   // normal velocity that lands on the plane, m/s
+  ContactMode mode = ContactMode::Slide;
+  int switches = 0;                      // mode switches during this step
+  double normal_impulse = 0.0;           // J_n of the last solve (0 if it pulls), kg*m/s
+  double pull = 0.0;                     // -J_n of the last solve if it pulls, kg*m/s
+  Vec3 tangential_impulse = Vec3::Zero();  // J_t of the last solve while sticking, kg*m/s
+  Vec3 friction_impulse = Vec3::Zero();  // applied while sliding, kg*m/s
+};
+
+// The contacts of one step.
+class ContactSet {
+ public:
+  void clear(int num_vertices);
+  bool empty() const { return contacts_.empty(); }
+  int size() const { return static_cast<int>(contacts_.size()); }
+  const std::vector<VertexContact>& contacts() const { return contacts_; }
+  int contact_of(int vertex) const { return of_vertex_[vertex]; }
+
+  // Adds a contact for each free vertex without one whose end position x_end lies closer
+  // to an obstacle than its thickness plus `margin` (m), at the obstacle's closest point;
+  // returns how many were added.
+  int detect(const Model& model, const std::vector<PlacedObstacle>& placed,
+             const Vec3List& x_end, double margin);
+
+  // The normal velocity of every contact that puts x_end on its plane:
+  // (offset - n . x_end_base) / beta_end.
+  void set_targets(const Vec3List& x_end_base, double beta_end);
+
+  // Sets the constrained components of v to their required values.
+  void project(Vec3List& v) const;
+
+  // Zeroes the constrained components of y (3V), the filter S of the solve.
+  void filter(Eigen::VectorXd& y) const;
+
+  // Adds the sliding contacts' friction impulses to rhs (3V), kg*m/s.
+  void add_friction(Eigen::VectorXd& rhs) const;
+
+  // After a solve: `reaction` (3V) holds A dv - rhs, the constraint impulses at the
+  // constrained vertices. Records them (a pulling J_n as 0 for friction).
+  void update(const Eigen::VectorXd& reaction);
+
+  // Once the solve has converged (so that the impulses and velocities judged are the
+  // step's): sticking contacts whose solve needed more tangential impulse than mu J_n
+  // slide (friction mu J_n along that impulse), and sliding ones whose velocity v turned
+  // against their friction stick. A contact switches at most twice in a step. Returns how
+  // many switched.
+  int switch_modes(const Vec3List& v);
+
+  // At the end of a step with velocities v: releases for the next step the contacts that
+  // pulled harder than `release` (per vertex, kg*m/s), chooses the others' modes (see
+  // above) and remembers them with their friction impulses.
+  void remember(const Vec3List& v, const std::vector<double>& release);
+
+  int stuck() const;  // contacts sticking
+
+ private:
+  std::vector<VertexContact> contacts_;
+  std::vector<int> of_vertex_;  // (V) index into contacts_, or -1
+  // (V) what each vertex's contact will do if it is in contact at the next step.
+  struct Memory {
+    bool in_contact = false;
+    bool released = false;  // pulled at the end of the last step: not caught unless inside
+    ContactMode mode = ContactMode::Stick;
+    Vec3 friction_impulse = Vec3::Zero();  // kg*m/s
+  };
+  std::vector<Memory> memory_;
+};
+
+}  // namespace tissu

@@ -1,0 +1,52 @@
+// The matrix of an implicit step, A = M - beta df/dv - beta^2 df/dx over the free vertices
+// (docs/implicit.md), written straight from the force terms into a BlockSparseMatrix:
+// - its block pattern is planned once from the mesh (every vertex pair of a triangle, the
+//   diagonal) and the bending stencils (diagonal-only blocks), pinned rows and columns left
+//   out;
+// - each triangle's nine blocks go to slots found once, so the membrane and the wind add
+//   their blocks without a search or a sort;
+// - the parts that do not change during a run (masses, bending, air damping) are summed
+//   once per beta and copied in before the triangle terms are added.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "physics/force_term.h"
+#include "physics/linear_solver.h"
+#include "physics/model.h"
+
+namespace tissu {
+
+class SystemMatrix {
+ public:
+  // Plans the pattern and slots for `model` unless already planned for its mesh and pins.
+  void plan(const Model& model);
+
+  // A at (x, v, t) for `beta` (s); with `project_psd` the solver's symmetric positive
+  // definite approximation of the Jacobian (add_force_jacobian).
+  void assemble(const Model& model, const Vec3List& x, const Vec3List& v, double t, double beta,
+                bool project_psd);
+
+  // Adds `block` to the diagonal block of free vertex i of the assembled matrix.
+  void add_diagonal(int i, const Mat3& block);
+
+  const BlockSparseMatrix& matrix() const { return A_; }
+
+ private:
+  friend class SlotSink;
+  // Adds the model's constant terms (mass, bending, air damping) for beta into values.
+  void add_constant_terms(const Model& model, double beta, std::vector<double>& values) const;
+
+  BlockSparseMatrix A_;
+  // Per triangle, its nine block slots (corner a row, corner b column at 3 a + b): the
+  // index of the full block in A_, or -1 where a corner is pinned.
+  std::vector<int> triangle_slots_;
+  std::vector<double> constant_values_;  // the constant terms for constant_beta_
+  double constant_beta_ = -1.0;
+  uint64_t planned_mesh_ = 0;
+  std::vector<uint8_t> planned_pins_;
+  bool planned_bending_ = false;
+};
+
+}  // namespace tissu

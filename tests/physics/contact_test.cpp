@@ -1,0 +1,340 @@
+// Contact inside the implicit solve (docs/implicit.md): the step's matrix, a step applies
+// its forces whole, cloth resting and sliding on planes with and without friction, cloth
+// dropped on a sphere and pushed by a moving one, substeps at impacts, and divergence by
+// energy.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <random>
+
+#include "physics/bending.h"
+#include "physics/block_triplets.h"
+#include "physics/contact.h"
+#include "physics/diagnostics.h"
+#include "physics/forces.h"
+#include "physics/implicit.h"
+#include "physics/materials.h"
+#include "physics/step.h"
+#include "physics/system_matrix.h"
+#include "test_meshes.h"
+
+namespace tissu {
+namespace {
+
+constexpr double kG = 9.81;  // m/s^2
+
+double total_energy(const Model& m, const State& s) {
+  return kinetic_energy(m, s.v) + elastic_energy(m, s.x) + gravity_potential(m, s.x);
+}
+
+// A flat cotton sheet of nx x nx cells and side `size` (m), centred at the origin in the
+// x-y plane, at rest, with gravity, stepped by `integrator`.
+struct Sheet {
+  Model model;
+  State state;
+};
+
+Sheet cotton_sheet(double size, int nx, Integrator integrator, double dt, unsigned seed = 3) {
+  Sheet s;
+  Vec3List x;
+  s.model = testing::grid_model(size, size, nx, nx, 0.25, seed, &x);
+  s.model.material = *material_preset("cotton");
+  s.model.material.bending = 0.0;  // membrane only: no bending model to build
+  s.model.gravity = Vec3(0, 0, -kG);
+  s.model.integrator = integrator;
+  s.model.dt = dt;
+  precompute_rest(s.model);
+  s.state.x = x;
+  s.state.v.assign(x.size(), Vec3::Zero());
+  return s;
+}
+
+Obstacle plane(const Vec3& point, const Vec3& normal, double friction, double thickness) {
+  Obstacle ob;
+  ob.kind = ObstacleKind::Plane;
+  ob.center = point;
+  ob.axis = normal.normalized();
+  ob.friction = friction;
+  ob.thickness = thickness;
+  return ob;
+}
+
+Obstacle sphere(const Vec3& center, double radius, double friction, double thickness) {
+  Obstacle ob;
+  ob.kind = ObstacleKind::Sphere;
+  ob.center = center;
+  ob.radius = radius;
+  ob.friction = friction;
+  ob.thickness = thickness;
+  return ob;
+}
+
+// --- The step's matrix -----------------------------------------------------------------
+
+// SystemMatrix writes every term's blocks straight into its slots; summed as triplets
+// (compute_force_jacobian, itself checked against finite differences in implicit_test) the
+// same terms give the same matrix M - beta df/dv - beta^2 df/dx over the free vertices.
+TEST(SystemMatrix, EqualsTheMatrixSummedFromTriplets) {
+  Vec3List x;
+  Model m = testing::grid_model(0.12, 0.1, 4, 3, 0.3, 11, &x);
+  m.material = testing::test_material();
+  m.material.damping = 0.02;  // s
+  m.gravity = Vec3(0, 0, -kG);
+  m.air_damping = 0.7;
+  m.wind = Wind{Vec3(1.5, -0.5, 3.0), 1.2, 0.3, 0.5};
+  m.pinned.assign(x.size(), 0);
+  m.pinned[0] = m.pinned[7] = 1;
+  precompute_rest(m);
+  m.bending = std::make_shared<const BendingModel>(build_bending(m.triangles, m.rest_uv, 2e-4, 3e-4));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> noise(-1.0, 1.0);
+  Vec3List v(x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    x[i] = Vec3(1.04 * x[i].x(), 0.97 * x[i].y(), 2.0 * x[i].x() * x[i].y()) +
+           0.004 * Vec3(noise(rng), noise(rng), noise(rng));
+    v[i] = 0.3 * Vec3(noise(rng), noise(rng), noise(rng));
+  }
+  const double beta = 1.0 / 60.0, t = 0.2;
+  SystemMatrix system;
+  system.assemble(m, x, v, t, beta, /*project_psd=*/true);
+  const Eigen::MatrixXd assembled = system.matrix().to_dense();
+
+  BlockTriplets dfdx, dfdv;
+  compute_force_jacobian(m, x, v, t, /*project_psd=*/true, dfdx, dfdv);
+  const int n = m.num_vertices();
+  Eigen::MatrixXd expected = -beta * beta * Eigen::MatrixXd(dfdx.to_sparse(n)) -
+                             beta * Eigen::MatrixXd(dfdv.to_sparse(n));
+  for (int i = 0; i < n; ++i) expected.block<3, 3>(3 * i, 3 * i) += m.mass[i] * Mat3::Identity();
+  for (int i = 0; i < n; ++i) {  // pinned rows and columns are not in the solve
+    if (!m.pinned[i]) continue;
+    expected.middleRows(3 * i, 3).setZero();
+    expected.middleCols(3 * i, 3).setZero();
+  }
+  EXPECT_LT((assembled - expected).norm(), 1e-12 * expected.norm());
+  EXPECT_GT(expected.norm(), 0.0);
+}
+
+// --- A step applies its forces whole -----------------------------------------------------
+
+// Internal forces sum to zero, so one backward Euler step changes the total momentum of a
+// free sheet by exactly h M g whatever the forces do, provided the step ends on a whole
+// Newton direction. On these crumpled sheets the first line search shortens the direction
+// (a step that ended there applied only that fraction of gravity, and one whose direction
+// was rejected applied none); Newton goes on until a whole step is taken.
+TEST(ImplicitStep, AppliesGravitysWholeImpulseWhenTheLineSearchShortens) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    Vec3List x;
+    Model m = testing::grid_model(0.3, 0.3, 10, 10, 0.25, seed, &x);
+    m.material = *material_preset("cotton");
+    m.material.bending = 0.0;
+    m.gravity = Vec3(0, 0, -kG);
+    m.integrator = Integrator::BackwardEuler;
+    m.dt = 1.0 / 60.0;
+    precompute_rest(m);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (Vec3& p : x) p = 0.9 * p + 0.005 * Vec3(u(rng), u(rng), u(rng));
+    State state;
+    state.x = x;
+    state.v.assign(x.size(), Vec3::Zero());
+    Workspace ws;
+    ASSERT_FALSE(step(m, state, ws));
+    ASSERT_EQ(ws.substeps, 1);
+    const ImplicitReport& r = *last_implicit_report(ws);
+    EXPECT_LT(r.step_lengths.front(), 1.0) << "seed " << seed;
+    EXPECT_EQ(r.step_lengths.back(), 1.0) << "seed " << seed;
+    Vec3 momentum = Vec3::Zero();
+    double mass = 0.0;
+    for (size_t i = 0; i < x.size(); ++i) {
+      momentum += m.mass[i] * state.v[i];
+      mass += m.mass[i];
+    }
+    const Vec3 expected = m.dt * mass * *m.gravity;
+    EXPECT_LT((momentum - expected).norm(), 1e-8 * expected.norm()) << "seed " << seed;
+  }
+}
+
+// --- Planes ------------------------------------------------------------------------------
+
+// A sheet lying on a plane at its thickness, with friction, at 1/30 s: it stays where it is
+// (no creep) and does not lift off (no bounce).
+TEST(Contact, SheetRestingOnAPlaneNeitherCreepsNorBounces) {
+  Sheet s = cotton_sheet(0.4, 8, Integrator::BackwardEuler, 1.0 / 30.0);
+  const double thickness = 0.002;  // m
+  s.model.obstacles.push_back(plane(Vec3::Zero(), Vec3::UnitZ(), 0.5, thickness));
+  for (Vec3& p : s.state.x) p.z() = thickness;
+  const Vec3List start = s.state.x;
+  Workspace ws;
+  double drift = 0.0, speed = 0.0;
+  for (int k = 0; k < 60; ++k) {
+    ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+    for (size_t i = 0; i < start.size(); ++i) {
+      drift = std::max(drift, (s.state.x[i] - start[i]).norm());
+      speed = std::max(speed, s.state.v[i].norm());
+    }
+  }
+  EXPECT_LT(drift, 1e-9);
+  EXPECT_LT(speed, 1e-8);
+  EXPECT_EQ(last_implicit_report(ws)->contacts, s.model.num_vertices());
+}
+
+// A sheet on a plane tilted by a, its whole underside in contact.
+struct Incline {
+  Sheet sheet;
+  Vec3 down_slope;  // unit, m
+};
+
+Incline sheet_on_incline(double degrees, double friction, double dt) {
+  Incline in{cotton_sheet(0.3, 6, Integrator::BackwardEuler, dt), Vec3::Zero()};
+  const double a = degrees * M_PI / 180.0;
+  const Mat3 tilt = Eigen::AngleAxisd(a, Vec3::UnitY()).toRotationMatrix();
+  const Vec3 normal = tilt * Vec3::UnitZ();
+  const double thickness = 0.001;
+  in.sheet.model.obstacles.push_back(plane(Vec3::Zero(), normal, friction, thickness));
+  for (Vec3& p : in.sheet.state.x) p = tilt * p + thickness * normal;
+  in.down_slope = (Vec3(0, 0, -1) - Vec3(0, 0, -1).dot(normal) * normal).normalized();
+  return in;
+}
+
+// Backward Euler under a constant acceleration a from rest gives v_n = a t_n exactly.
+TEST(Contact, FrictionlessInclineSlidesAtGSinA) {
+  const double degrees = 20.0, h = 1.0 / 30.0;
+  Incline in = sheet_on_incline(degrees, 0.0, h);
+  Workspace ws;
+  const int steps = 30;
+  for (int k = 0; k < steps; ++k) ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+  const double expected = kG * std::sin(degrees * M_PI / 180.0) * steps * h;  // m/s
+  for (const Vec3& v : in.sheet.state.v) {
+    EXPECT_NEAR(v.dot(in.down_slope), expected, 1e-6 * expected);
+    EXPECT_LT((v - v.dot(in.down_slope) * in.down_slope).norm(), 1e-6 * expected);
+  }
+}
+
+// Friction above tan(a): the sheet never moves.
+TEST(Contact, InclineWithFrictionAboveTanASticks) {
+  const double degrees = 25.0;
+  Incline in = sheet_on_incline(degrees, 1.2 * std::tan(degrees * M_PI / 180.0), 1.0 / 30.0);
+  const Vec3List start = in.sheet.state.x;
+  Workspace ws;
+  for (int k = 0; k < 60; ++k) ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+  double drift = 0.0;
+  for (size_t i = 0; i < start.size(); ++i) {
+    drift = std::max(drift, (in.sheet.state.x[i] - start[i]).norm());
+  }
+  EXPECT_LT(drift, 1e-9);
+  EXPECT_EQ(last_implicit_report(ws)->stuck_contacts, in.sheet.model.num_vertices());
+}
+
+// Friction below tan(a): the sheet slides with the acceleration g (sin a - mu cos a) of
+// Coulomb's law (its new contacts stick until their first solve shows friction cannot hold
+// them, within the first step).
+TEST(Contact, InclineWithFrictionBelowTanASlidesAgainstCoulombFriction) {
+  const double degrees = 30.0, h = 1.0 / 30.0;
+  const double a = degrees * M_PI / 180.0, mu = 0.5 * std::tan(a);
+  Incline in = sheet_on_incline(degrees, mu, h);
+  Workspace ws;
+  const int steps = 30;
+  for (int k = 0; k < steps; ++k) ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+  const double expected = kG * (std::sin(a) - mu * std::cos(a)) * steps * h;  // m/s
+  for (const Vec3& v : in.sheet.state.v) EXPECT_NEAR(v.dot(in.down_slope), expected, 1e-6 * expected);
+}
+
+// --- Spheres ---------------------------------------------------------------------------
+
+// A sheet dropped onto a sphere with large steps: no vertex ever ends a step closer to the
+// sphere than its thickness, and contact does no work: the total energy never rises above
+// its value at the start.
+TEST(Contact, SheetDroppedOnASphereAtThirtyHertzNeverEndsInsideNorGainsEnergy) {
+  Sheet s = cotton_sheet(0.6, 14, Integrator::BackwardEuler, 1.0 / 30.0);
+  const double radius = 0.15, thickness = 0.002;
+  s.model.obstacles.push_back(sphere(Vec3(0.02, -0.01, -radius - 0.05), radius, 0.3, thickness));
+  s.model.air_damping = 0.3;
+  Workspace ws;
+  const double e0 = total_energy(s.model, s.state);
+  double closest = INFINITY, highest = -INFINITY;
+  int substeps = 0;
+  for (int k = 0; k < 45; ++k) {
+    ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+    substeps = std::max(substeps, ws.substeps);
+    Vec3 n;
+    for (const Vec3& p : s.state.x) {
+      closest = std::min(closest, s.model.obstacles[0].signed_distance(p, s.state.t, &n));
+    }
+    highest = std::max(highest, total_energy(s.model, s.state) - e0);
+  }
+  EXPECT_GE(closest, thickness - 1e-9);
+  EXPECT_LT(closest, thickness + 1e-3) << "the sheet lands on the sphere";
+  EXPECT_LE(highest, 1e-9);
+  EXPECT_GT(substeps, 1) << "the impact is solved in substeps";
+}
+
+// A sphere moving through a hanging sheet at 1 m/s pushes it aside: every vertex stays
+// outside it at every step.
+TEST(Contact, MovingSpherePushesTheClothWithoutPassingThrough) {
+  Sheet s = cotton_sheet(0.4, 10, Integrator::BackwardEuler, 1.0 / 60.0);
+  for (Vec3& p : s.state.x) p = Vec3(p.x(), 0.0, p.y());  // hanging in the x-z plane
+  s.model.pinned.assign(s.state.x.size(), 0);
+  for (size_t i = 0; i < s.state.x.size(); ++i) {
+    if (s.state.x[i].z() > 0.2 - 1e-9) s.model.pinned[i] = 1;  // the top row
+  }
+  precompute_rest(s.model);
+  const double radius = 0.06;
+  Obstacle ball = sphere(Vec3(0.0, -0.2, 0.0), radius, 0.2, 0.001);
+  ball.motion.velocity = Vec3(0.0, 1.0, 0.0);  // m/s, through the sheet's plane
+  s.model.obstacles.push_back(ball);
+  Workspace ws;
+  double closest = INFINITY, pushed = 0.0;
+  for (int k = 0; k < 24; ++k) {  // 0.4 s: the ball passes the sheet's plane at 0.2 s
+    ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+    Vec3 n;
+    for (const Vec3& p : s.state.x) {
+      closest = std::min(closest, s.model.obstacles[0].signed_distance(p, s.state.t, &n));
+      pushed = std::max(pushed, p.y());
+    }
+  }
+  EXPECT_GE(closest, 0.001 - 1e-9);
+  EXPECT_GT(pushed, 0.1) << "the sheet is carried along";
+}
+
+// --- Substeps --------------------------------------------------------------------------
+
+// A sheet at rest needs one solve per step; one about to hit a plane at 3 m/s is split so
+// that no vertex closes more than half an edge on it per solve.
+TEST(Substeps, ImpactsAreSplitAndRestIsNot) {
+  Sheet s = cotton_sheet(0.3, 10, Integrator::BackwardEuler, 1.0 / 30.0);
+  s.model.obstacles.push_back(plane(Vec3(0, 0, -0.05), Vec3::UnitZ(), 0.0, 0.0));
+  EXPECT_EQ(implicit_substeps(s.model, s.state), 1);
+  for (Vec3& v : s.state.v) v = Vec3(0, 0, -3.0);
+  double edges = 0.0;
+  for (const Tri& t : s.model.triangles) {
+    for (int e = 0; e < 3; ++e) edges += (s.model.rest_uv[t[e]] - s.model.rest_uv[t[(e + 1) % 3]]).norm();
+  }
+  const double edge = edges / (3.0 * s.model.num_triangles());
+  const int expected = static_cast<int>(std::ceil(s.model.dt * 3.0 / (kSubstepMotion * edge)));
+  EXPECT_EQ(implicit_substeps(s.model, s.state), std::min(expected, kMaxSubsteps));
+  EXPECT_GT(expected, 1);
+}
+
+// --- Divergence --------------------------------------------------------------------------
+
+// A state holding far more energy than the scene can supply is a divergence, even at
+// speeds below max_speed: here the sheet is stretched to three times its size mid-run.
+TEST(Divergence, EnergyBeyondWhatTheSceneSuppliesIsReported) {
+  Sheet s = cotton_sheet(0.3, 6, Integrator::BackwardEuler, 1.0 / 60.0);
+  Workspace ws;
+  for (int k = 0; k < 5; ++k) ASSERT_FALSE(step(s.model, s.state, ws));
+  State still;
+  still.x = s.state.x;
+  still.v.assign(still.x.size(), Vec3::Zero());
+  const double limit = energy_limit(s.model, still);
+  EXPECT_GT(limit, total_energy(s.model, s.state));
+  for (Vec3& p : s.state.x) p *= 3.0;
+  s.state.v.assign(s.state.x.size(), Vec3::Zero());
+  const std::optional<Divergence> d = step(s.model, s.state, ws);
+  ASSERT_TRUE(d.has_value());
+  EXPECT_NE(d->reason.find("energy"), std::string::npos) << d->reason;
+}
+
+}  // namespace
+}  // namespace tissu
