@@ -14,9 +14,11 @@ ObstacleShape drawn_obstacle(const Obstacle& ob, double t, double inset) {
   }
   s.center = ob.center_at(t);
   s.axis = ob.axis;
-  s.radius = ob.radius - inset;
-  s.half_length = ob.half_length - inset;
-  if (ob.kind == ObstacleKind::Plane) s.center -= 0.002 * ob.axis;  // m
+  // Cloth keeps the obstacle's thickness from its surface: the surface drawn is the one the
+  // cloth rests on.
+  s.radius = ob.radius + ob.thickness - inset;
+  s.half_length = ob.half_length + ob.thickness - inset;
+  if (ob.kind == ObstacleKind::Plane) s.center += (ob.thickness - 0.002) * ob.axis.normalized();  // m
   if (ob.kind == ObstacleKind::Mesh) {
     // Drawn as it is (its triangles are the surface the cloth meets, no tessellation).
     s.mesh_vertices = std::shared_ptr<const Vec3List>(ob.surface, &ob.surface->vertices());

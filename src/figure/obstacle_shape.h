@@ -8,9 +8,11 @@
 
 namespace tissu {
 
-// `ob` at time t, drawn `inset` m inside its surface (radius and half length shrink by
-// it; cloth resting on the obstacle would otherwise be cut by its tessellation). Planes
-// are drawn 2 mm below their surface, meshes as they are (no tessellation to hide).
+// `ob` at time t as the surface cloth rests on, its thickness out from its own surface,
+// drawn `inset` m inside that (radius and half length shrink by it; cloth resting on the
+// obstacle would otherwise be cut by its tessellation). Planes are drawn 2 mm below that
+// surface, meshes as their file gives them (no tessellation to hide; their thickness, a
+// few millimetres, is not drawn).
 ObstacleShape drawn_obstacle(const Obstacle& ob, double t, double inset);
 
 }  // namespace tissu
