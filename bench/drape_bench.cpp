@@ -40,11 +40,6 @@ struct Run {
   double max_energy_gain = 0.0;  // J, largest rise of the total energy over its start value
 };
 
-double total_energy(const Model& model, const State& state) {
-  return kinetic_energy(model, state.v) + elastic_energy(model, state.x) +
-         gravity_potential(model, state.x);
-}
-
 Run simulate(const std::string& scene_file, std::vector<std::string> overrides,
              const std::string& integrator, double dt, double fps) {
   overrides.push_back("integrator=\"" + integrator + "\"");

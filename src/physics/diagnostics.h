@@ -22,6 +22,24 @@ double kinetic_energy(const Model& model, const Vec3List& v);
 double elastic_energy(const Model& model, const Vec3List& x);
 double gravity_potential(const Model& model, const Vec3List& x);
 std::optional<double> min_clearance(const Model& model, const Vec3List& x, double t);
+
+// Kinetic + elastic + gravity potential, J.
+double total_energy(const Model& model, const State& state);
+
+// Sum of the lumped masses, kg.
+double total_mass(const Model& model);
+
+// Largest speed an obstacle reaches, m/s (|drift| + |amplitude| 2 pi / period).
+double max_obstacle_speed(const Obstacle& obstacle);
+
+// The energy a run may reasonably gain over its duration, J: the work gravity can do over the
+// cloth's size, M |g| L (L = diagonal of the cloth's bounding box at the start), plus the
+// kinetic energy external drivers can give the whole cloth, M v_ext^2 / 2 (v_ext = the
+// largest wind speed, or twice the largest obstacle speed: a rigid wall bounces a vertex at
+// most at twice its own speed), plus the starting kinetic and elastic energies. The
+// divergence check of a run (step.h) and the studies' energy bound are multiples of it.
+// Never below 1e-9 J.
+double energy_scale(const Model& model, const State& start);
 FrameStats measure_frame(const Model& model, const State& state);
 
 }  // namespace tissu

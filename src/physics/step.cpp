@@ -170,11 +170,6 @@ std::optional<Divergence> divergence_of(const Model& model, const State& state,
   return std::nullopt;
 }
 
-double total_energy(const Model& model, const State& state) {
-  return kinetic_energy(model, state.v) + elastic_energy(model, state.x) +
-         gravity_potential(model, state.x);
-}
-
 // Energy beyond the workspace's limit: a divergence naming the energy and the limit.
 std::optional<Divergence> energy_divergence(const Model& model, const State& state,
                                             double limit) {
@@ -191,22 +186,7 @@ std::optional<Divergence> energy_divergence(const Model& model, const State& sta
 }  // namespace
 
 double energy_limit(const Model& model, const State& start) {
-  double mass = 0.0;
-  for (double m : model.mass) mass += m;
-  Eigen::AlignedBox3d box;
-  for (const Vec3& p : start.x) box.extend(p);
-  const double size = start.x.empty() ? 0.0 : box.diagonal().norm();  // m
-  const double g = model.gravity ? model.gravity->norm() : 0.0;
-  const double wind = model.wind ? model.wind->velocity.norm() * (1.0 + std::fabs(model.wind->gust_amplitude)) : 0.0;
-  double obstacle_speed = 0.0;
-  for (const Obstacle& ob : model.obstacles) {
-    double speed = ob.motion.velocity.norm();
-    if (ob.motion.period > 0.0) speed += ob.motion.amplitude.norm() * 2.0 * M_PI / ob.motion.period;
-    obstacle_speed = std::max(obstacle_speed, speed);
-  }
-  const double supply = mass * (g * size + 0.5 * wind * wind + 2.0 * obstacle_speed * obstacle_speed);
-  const double movable = kinetic_energy(model, start.v) + elastic_energy(model, start.x);
-  return total_energy(model, start) + 10.0 * (supply + movable) + 1e-12;
+  return total_energy(model, start) + 10.0 * energy_scale(model, start);
 }
 
 void resolve_collisions(const Model& model, double t, Vec3List& x, Vec3List& v) {

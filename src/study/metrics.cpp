@@ -32,40 +32,4 @@ Energy measure_energy(const Model& model, const Vec3List& x, const Vec3List& v) 
   return e;
 }
 
-double total_mass(const Model& model) {
-  double m = 0.0;
-  for (double mi : model.mass) m += mi;
-  return m;
-}
-
-double max_obstacle_speed(const Obstacle& obstacle) {
-  const ObstacleMotion& m = obstacle.motion;
-  double speed = m.velocity.norm();
-  if (m.period > 0.0) speed += m.amplitude.norm() * 2.0 * M_PI / m.period;
-  return speed;
-}
-
-double energy_scale(const Model& model, const State& start) {
-  const double mass = total_mass(model);
-  double scale = 0.0;
-  // Work gravity can do as the cloth moves by about its own size.
-  if (model.gravity && !start.x.empty()) {
-    Vec3 lo = start.x[0], hi = start.x[0];
-    for (const Vec3& p : start.x) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    scale += mass * model.gravity->norm() * (hi - lo).norm();
-  }
-  // Kinetic energy external drivers can give.
-  double v_ext = 0.0;
-  if (model.wind) v_ext = model.wind->velocity.norm() * (1.0 + model.wind->gust_amplitude);
-  for (const Obstacle& ob : model.obstacles) v_ext = std::max(v_ext, 2.0 * max_obstacle_speed(ob));
-  scale += 0.5 * mass * v_ext * v_ext;
-  // What the start already holds.
-  const Energy e0 = measure_energy(model, start.x, start.v);
-  scale += e0.kinetic + e0.elastic;
-  return std::max(scale, 1e-9);
-}
-
 }  // namespace tissu

@@ -1,6 +1,7 @@
 // Error and energy measures used by the accuracy study and the stability search.
 #pragma once
 
+#include "physics/diagnostics.h"  // energy_scale, total_mass, max_obstacle_speed
 #include "physics/model.h"
 
 namespace tissu {
@@ -24,20 +25,5 @@ struct Energy {
   double total() const { return kinetic + elastic + potential; }
 };
 Energy measure_energy(const Model& model, const Vec3List& x, const Vec3List& v);
-
-// The energy a run may reasonably gain over its duration, J: the work gravity can do over the
-// cloth's size, M |g| L (L = diagonal of the cloth's bounding box at the start), plus the
-// kinetic energy external drivers can give the whole cloth, M v_ext^2 / 2 (v_ext = the
-// largest wind speed, or twice the largest obstacle speed: a rigid wall bounces a vertex at
-// most at twice its own speed), plus the starting kinetic and elastic energies.
-// A run whose total energy exceeds start + margin * scale is flagged as energy growing
-// without bound. Never below 1e-9 J.
-double energy_scale(const Model& model, const State& start);
-
-// Largest speed an obstacle reaches, m/s (|drift| + |amplitude| 2 pi / period).
-double max_obstacle_speed(const Obstacle& obstacle);
-
-// Sum of the lumped masses, kg.
-double total_mass(const Model& model);
 
 }  // namespace tissu

@@ -24,10 +24,6 @@ namespace {
 
 constexpr double kG = 9.81;  // m/s^2
 
-double total_energy(const Model& m, const State& s) {
-  return kinetic_energy(m, s.v) + elastic_energy(m, s.x) + gravity_potential(m, s.x);
-}
-
 // A flat cotton sheet of nx x nx cells and side `size` (m), centred at the origin in the
 // x-y plane, at rest, with gravity, stepped by `integrator`.
 struct Sheet {

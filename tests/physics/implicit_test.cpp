@@ -726,10 +726,6 @@ TEST(Scenes, ImplicitIntegratorsAreSceneChoices) {
 
 // --- Stiff sheet -------------------------------------------------------------------------
 
-double total_energy(const Model& m, const State& s) {
-  return kinetic_energy(m, s.v) + elastic_energy(m, s.x) + gravity_potential(m, s.x);
-}
-
 // Linen (the stiffest preset, with its bending and strain-rate damping) hanging from two
 // corners, released flat and horizontal, dt = 1/60 s for 2 s with Newton iterated to
 // convergence: it falls, swings and hangs; energy never exceeds the initial energy
