@@ -12,13 +12,15 @@ void ContactSet::clear(int num_vertices) {
 }
 
 int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& placed,
-                       const Vec3List& x_end, double margin) {
+                       const Vec3List& x_end, double margin, double remembered_margin) {
   int added = 0;
   for (int i = 0; i < model.num_vertices(); ++i) {
     if (model.pinned[i] || of_vertex_[i] >= 0) continue;
     int best = -1;
     // A vertex released at the end of the last step is caught only once it is inside.
-    double best_gap = memory_[i].released ? std::min(margin, 0.0) : margin;
+    double best_gap = memory_[i].released    ? std::min(margin, 0.0)
+                      : memory_[i].in_contact ? std::max(margin, remembered_margin)
+                                              : margin;
     SurfacePoint best_point;
     for (size_t o = 0; o < placed.size(); ++o) {
       const SurfacePoint s = placed[o].closest(x_end[i]);

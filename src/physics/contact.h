@@ -64,9 +64,11 @@ class ContactSet {
 
   // Adds a contact for each free vertex without one whose end position x_end lies closer
   // to an obstacle than its thickness plus `margin` (m), at the obstacle's closest point;
-  // returns how many were added.
+  // for a vertex in contact at the end of the last step, plus the larger of `margin` and
+  // `remembered_margin` (m); for one released then, only once inside. Returns how many
+  // were added.
   int detect(const Model& model, const std::vector<PlacedObstacle>& placed,
-             const Vec3List& x_end, double margin);
+             const Vec3List& x_end, double margin, double remembered_margin = 0.0);
 
   // The normal velocity of every contact that puts x_end on its plane:
   // (offset - n . x_end_base) / beta_end.

@@ -405,7 +405,10 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   for (const Obstacle& ob : model.obstacles) s.placed.push_back(place_obstacle(ob, eq.t_end));
   if (!s.placed.empty()) {
     const Vec3List& x_end = end_positions(model, s, eq, state, s.v);
-    s.contacts.detect(model, s.placed, x_end, kPenetrationTolerance);
+    // A vertex in contact at the end of the last step (and not released) is caught again
+    // while its predicted gap is within the distance gravity moves it over the step.
+    const double fall = model.gravity ? model.gravity->norm() * eq.beta_end * eq.beta_end : 0.0;
+    s.contacts.detect(model, s.placed, x_end, kPenetrationTolerance, fall);
     s.contacts.set_targets(s.x_end_base, eq.beta_end);
     s.contacts.project(s.v);
   }
