@@ -35,6 +35,10 @@ const char* run_status_name(RunStatus status) {
   return "unknown";
 }
 
+long long frame_count(double duration, double frame_rate) {
+  return static_cast<long long>(std::floor(duration * frame_rate + 1e-6)) + 1;
+}
+
 long long steps_per_frame(double dt, double frames_per_second) {
   return std::max<long long>(1, std::llround(1.0 / (frames_per_second * dt)));
 }
@@ -51,17 +55,51 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
   ProgressBar progress = ProgressBar::on_stderr(options.progress_label, scene.steps);
   Vec3List last_frame_x = state.x;  // final.obj falls back to it after a divergence
 
-  auto emit_frame = [&] {
-    const FrameStats stats = measure_frame(model, state);
+  bool end_recorded = false;  // the state the run ends on is the last row
+  auto record = [&](const State& shown) {
+    const FrameStats stats = measure_frame(model, shown);
     result.frames.push_back(stats);
-    if (options.check) result.checks.push_back(check_frame(model, state));
-    last_frame_x = state.x;
-    if (sink) sink->frame(model, state, stats);
+    if (options.check) result.checks.push_back(check_frame(model, shown));
+    last_frame_x = shown.x;
+    end_recorded = &shown == &state;
+    return stats;
   };
+  auto emit_frame = [&](const State& shown) {
+    const FrameStats stats = record(shown);
+    if (sink) sink->frame(model, shown, stats);
+  };
+
+  // Frame k is at k / frame_rate; a frame within this fraction of a step of a step's end
+  // is that step's state (the time summed over steps drifts by round-off).
+  constexpr double kSameTime = 1e-6;
+  const double rate = options.frame_rate > 0.0 ? options.frame_rate : 1.0 / model.dt;
+  long long next_frame = 0;
+  auto frame_time = [&](long long k) { return static_cast<double>(k) / rate; };
+  State before;  // the state before the step, kept when a frame falls inside the step
+  State between;
 
   for (long long s = 0;; ++s) {
     const bool last = s == scene.steps;
-    if (s % options.frame_every == 0 || last) emit_frame();
+    // Frames that fall inside the step just taken, then one at its end.
+    if (s > 0 && !before.x.empty()) {
+      while (frame_time(next_frame) < state.t - kSameTime * model.dt) {
+        const double w = (frame_time(next_frame) - before.t) / (state.t - before.t);
+        between.t = frame_time(next_frame);
+        between.step = before.step;
+        between.x.resize(state.x.size());
+        between.v.resize(state.v.size());
+        for (size_t i = 0; i < state.x.size(); ++i) {
+          between.x[i] = (1.0 - w) * before.x[i] + w * state.x[i];
+          between.v[i] = (1.0 - w) * before.v[i] + w * state.v[i];
+        }
+        emit_frame(between);
+        ++next_frame;
+      }
+    }
+    if (std::fabs(frame_time(next_frame) - state.t) <= kSameTime * model.dt) {
+      emit_frame(state);
+      ++next_frame;
+    }
     if (!options.obj_dir.empty() && options.obj_every > 0 && s % options.obj_every == 0) {
       write_obj(obj_frame_path(options.obj_dir, s), state.x, model.rest_uv, model.triangles);
     }
@@ -71,8 +109,17 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
       result.status = RunStatus::Interrupted;
       break;
     }
+    // Keep the state before the step when the next frame falls inside it.
+    before.x.clear();
+    if (frame_time(next_frame) < state.t + (1.0 - kSameTime) * model.dt) {
+      before.x = state.x;
+      before.v = state.v;
+      before.t = state.t;
+      before.step = state.step;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     const std::optional<Divergence> divergence = step(model, state, ws);
+    end_recorded = false;
     result.times.simulate += seconds_since(t0);
     result.newton_iterations += ws.newton_iterations;
     result.cg_iterations += ws.cg_iterations;
@@ -90,6 +137,9 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
       break;
     }
   }
+  // The report ends on the state the run ends on, also between frame times (not a frame
+  // of the video).
+  if (!end_recorded && result.status != RunStatus::Diverged) record(state);
   if (options.progress) progress.finish();
   if (!options.obj_dir.empty()) {
     const bool good = result.status != RunStatus::Diverged;

@@ -16,7 +16,10 @@ namespace tissu {
 enum class RunStatus { Ok, Diverged, Interrupted };
 const char* run_status_name(RunStatus status);
 
-// Receives the state at every frame (step 0, every `frame_every` steps, and the last step).
+// Receives the state at every frame time k / frame_rate (k = 0, 1, ...) up to the end of
+// the run: the state of the step that ends there, or else the linear interpolation of
+// positions and velocities between the two steps around it (the steps themselves never
+// depend on the frame rate).
 class FrameSink {
  public:
   virtual ~FrameSink() = default;
@@ -36,7 +39,7 @@ struct StageTimes {
 };
 
 struct RunOptions {
-  long long frame_every = 1;  // steps between frames
+  double frame_rate = 0.0;    // frames per simulated second (fps x slow motion); 0: every step
   int obj_every = 0;          // steps between OBJ snapshots; 0 = only final.obj (when obj_dir set)
   std::string obj_dir;        // "" = no OBJ output
   int threads = 1;            // threads for each step (same results for any count)
@@ -65,7 +68,12 @@ struct RunResult {
 RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& options,
                          FrameSink* sink);
 
-// Steps between frames for a frame rate (frames per simulated second); at least 1.
+// Frames of a run of `duration` simulated seconds at `frame_rate` frames per simulated second
+// (frame times 0, 1/frame_rate, ... up to the duration, within a millionth of a frame).
+long long frame_count(double duration, double frame_rate);
+
+// Steps between frames for a frame rate (frames per simulated second); at least 1. For the
+// loops that show whole steps only (figure panels).
 long long steps_per_frame(double dt, double frames_per_second);
 
 }  // namespace tissu

@@ -76,7 +76,7 @@ int run_scene(const std::vector<std::string>& args, bool render) {
   Simulation sim = build_simulation(scene);
 
   RunOptions run;
-  run.frame_every = steps_per_frame(scene.dt, frames_per_simulated_second(settings));
+  run.frame_rate = frames_per_simulated_second(settings);
   // More threads than processors would only make them wait for each other.
   run.threads = std::min(options.threads > 0 ? options.threads : kMaxThreads,
                          available_processors());
@@ -87,7 +87,7 @@ int run_scene(const std::vector<std::string>& args, bool render) {
   std::unique_ptr<RenderSink> sink;
   RenderOutputs outputs;
   if (render) {
-    const long long frames = scene.steps / run.frame_every + 1;
+    const long long frames = frame_count(scene.steps * scene.dt, run.frame_rate);
     outputs.max_frames = options.max_frames;
     const long long shown = options.max_frames > 0 ? std::min(frames, options.max_frames) : frames;
     if (options.mp4) outputs.mp4_path = (fs::path(options.out_dir) / (scene.name + ".mp4")).string();

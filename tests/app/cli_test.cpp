@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -194,3 +195,70 @@ TEST_F(Cli, SigintStopsTheRunAndReportsInterrupted) {
 }
 
 }  // namespace
+
+namespace {
+
+// A free sheet falling under gravity with backward Euler at dt = 0.004 s, recorded at 30
+// frames per second: 0.004 does not divide 1/30, so most frame times fall between steps.
+Json falling_scene(double duration) {
+  Json scene = Json::parse(R"({
+    "name": "fall", "dt": 0.004, "integrator": "backward_euler",
+    "cloth": {"mesh": {"generate": "rectangle", "size": [0.2, 0.2], "triangles": 50,
+                       "irregular": true, "seed": 3},
+              "material": "silk"},
+    "gravity": [0, 0, -9.81],
+    "render": {"width": 64, "height": 48, "msaa": 1, "fps": 30}
+  })");
+  scene["duration"] = duration;
+  return scene;
+}
+
+// Backward Euler free fall from rest: z_n = -g h^2 n (n + 1) / 2 exactly.
+double fall_height(double t, double h) {
+  const double steps = t / h;
+  const long long n = static_cast<long long>(std::floor(steps + 1e-9));
+  const double w = steps - static_cast<double>(n);
+  auto z = [h](double k) { return -9.81 * h * h * k * (k + 1.0) / 2.0; };
+  return std::fabs(w) < 1e-9 ? z(n) : (1.0 - w) * z(n) + w * z(n + 1);
+}
+
+}  // namespace
+
+// Frames are at exactly k / fps, whatever the step: frame k of a 2 s run at 30 fps is at
+// k / 30 s, and shows the state there (positions interpolated between the two steps around
+// it, which for a falling sheet puts its gravity potential on the line between theirs).
+TEST_F(Cli, FramesAreAtExactFrameTimesWhateverTheStep) {
+  const std::string scene = write_scene("fall.json", falling_scene(2.0));
+  const fs::path out = dir_ / "out";
+  const Result r = run("run " + scene + " --out " + out.string() + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json report = read_json(out / "report.json");
+  const Json& frames = report["frames"];
+  ASSERT_EQ(frames.size(), 61u);
+  const double end_height = fall_height(2.0, 0.004);
+  const double end_potential = frames.back()["potential_energy"].get<double>();
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const double t = static_cast<double>(k) / 30.0;
+    EXPECT_NEAR(frames[k]["time"].get<double>(), t, 1e-12) << k;
+    if (k == 0) continue;
+    // The potential (relative to the start) is M g z: its ratio to the end's is z's.
+    const double start = frames[0]["potential_energy"].get<double>();
+    const double ratio = (frames[k]["potential_energy"].get<double>() - start) / (end_potential - start);
+    EXPECT_NEAR(ratio, fall_height(t, 0.004) / end_height, 1e-9) << "frame " << k;
+  }
+}
+
+// A video is as long as the scene: 0.5 s at 30 fps are frames 0 to 15, written as 16 PNGs
+// (a frame every 8 steps of 0.004 s would make them 0.032 s apart and the clip 4% slow).
+TEST_F(Cli, RenderWritesOneFramePerFrameTime) {
+  const std::string scene = write_scene("fall.json", falling_scene(0.5));
+  const fs::path out = dir_ / "out";
+  const Result r = run("render " + scene + " --out " + out.string() + " --png --no-mp4 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int pngs = 0;
+  for (const auto& entry : fs::directory_iterator(out / "png")) pngs += entry.path().extension() == ".png";
+  EXPECT_EQ(pngs, 16);
+  const Json report = read_json(out / "report.json");
+  ASSERT_EQ(report["frames"].size(), 16u);
+  EXPECT_NEAR(report["frames"].back()["time"].get<double>(), 0.5, 1e-12);
+}

@@ -18,7 +18,7 @@ RunResult run_checked(const std::string& scene_name, const std::vector<std::stri
       load_scene((fs::path(TISSU_SOURCE_DIR) / "scenes" / scene_name).string(), overrides);
   Simulation sim = build_simulation(scene);
   RunOptions options;
-  options.frame_every = steps_per_frame(scene.dt, 30.0);
+  options.frame_rate = 30.0;
   options.progress = false;
   options.check = true;
   return run_simulation(scene, sim, options, nullptr);
