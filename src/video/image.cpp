@@ -1,7 +1,9 @@
 #include "video/image.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -32,14 +34,17 @@ ImageDiff compare_images(const Image& a, const Image& b, int threshold) {
   require_same_size(a, b);
   const std::size_t pixels = std::size_t(a.width) * a.height;
   ImageDiff diff;
+  diff.psnr_db = std::numeric_limits<double>::infinity();
   if (pixels == 0) return diff;
   std::size_t over = 0;
   std::uint64_t sum = 0;
+  std::uint64_t sum_of_squares = 0;
   for (std::size_t p = 0; p < pixels; ++p) {
     int pixel_max = 0;
     for (int c = 0; c < 3; ++c) {
       const int d = std::abs(int(a.rgb[p * 3 + c]) - int(b.rgb[p * 3 + c]));
       sum += d;
+      sum_of_squares += std::uint64_t(d * d);
       pixel_max = std::max(pixel_max, d);
     }
     if (pixel_max > threshold) ++over;
@@ -47,7 +52,15 @@ ImageDiff compare_images(const Image& a, const Image& b, int threshold) {
   }
   diff.fraction_over_threshold = double(over) / double(pixels);
   diff.mean_abs_diff = double(sum) / double(pixels * 3);
+  if (sum_of_squares > 0) {
+    const double mean_square = double(sum_of_squares) / double(pixels * 3);
+    diff.psnr_db = 10.0 * std::log10(255.0 * 255.0 / mean_square);
+  }
   return diff;
+}
+
+bool FrameTolerance::accepts(const ImageDiff& diff) const {
+  return diff.fraction_over_threshold <= max_fraction_over && diff.mean_abs_diff < max_mean_difference;
 }
 
 Image difference_image(const Image& a, const Image& b, int gain) {

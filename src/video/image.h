@@ -23,10 +23,26 @@ struct ImageDiff {
   double fraction_over_threshold = 0;  // pixels whose largest channel difference is > threshold, 0..1
   double mean_abs_diff = 0;            // mean |a - b| over all channels, 0..255
   int max_diff = 0;                    // largest channel difference, 0..255
+  // Peak signal-to-noise ratio in dB, 10 log10(255^2 / mean squared channel difference);
+  // infinity for identical images.
+  double psnr_db = 0;
+};
+
+// The tolerance of visual regression, shared by the golden-frame tests and `tissu compare`:
+// two frames match when at most max_fraction_over of their pixels differ by more than
+// threshold (out of 255) in some channel, and their mean channel difference is under
+// max_mean_difference.
+struct FrameTolerance {
+  int threshold = 8;
+  double max_fraction_over = 0.005;
+  double max_mean_difference = 1.0;
+
+  // `diff` must come from compare_images(a, b, threshold).
+  bool accepts(const ImageDiff& diff) const;
 };
 
 // Throws std::invalid_argument when the sizes differ.
-ImageDiff compare_images(const Image& a, const Image& b, int threshold = 8);
+ImageDiff compare_images(const Image& a, const Image& b, int threshold = FrameTolerance{}.threshold);
 
 // |a - b| per channel multiplied by `gain` and clamped, so small differences become visible.
 Image difference_image(const Image& a, const Image& b, int gain = 8);

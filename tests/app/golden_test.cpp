@@ -21,11 +21,9 @@ namespace {
 namespace fs = std::filesystem;
 using tissu::Image;
 
-// The tolerance of the visual regression (issue: at most 0.5% of the pixels differing by
-// more than 8/255, mean difference under 1/255).
-constexpr int kPixelThreshold = 8;
-constexpr double kMaxFractionOver = 0.005;
-constexpr double kMaxMeanDifference = 1.0;
+// The tolerance of the visual regression (at most 0.5% of the pixels differing by more
+// than 8/255, mean difference under 1/255), the one `tissu compare` applies by default.
+const tissu::FrameTolerance kTolerance;
 
 fs::path source_dir() { return fs::path(TISSU_SOURCE_DIR); }
 
@@ -71,10 +69,8 @@ TEST_P(Golden, FrameMatchesWithinTolerance) {
   const Image actual = tissu::read_png(frame.string());
   ASSERT_EQ(actual.width, expected.width);
   ASSERT_EQ(actual.height, expected.height);
-  const tissu::ImageDiff diff = tissu::compare_images(expected, actual, kPixelThreshold);
-  const bool ok = diff.fraction_over_threshold <= kMaxFractionOver &&
-                  diff.mean_abs_diff < kMaxMeanDifference;
-  if (!ok) {
+  const tissu::ImageDiff diff = tissu::compare_images(expected, actual, kTolerance.threshold);
+  if (!kTolerance.accepts(diff)) {
     const fs::path failures = source_dir() / "out/golden-failures";
     fs::create_directories(failures);
     const fs::path new_frame = failures / (name + ".new.png");
@@ -82,7 +78,7 @@ TEST_P(Golden, FrameMatchesWithinTolerance) {
     fs::copy_file(frame, new_frame, fs::copy_options::overwrite_existing);
     tissu::write_png(diff_image.string(), tissu::difference_image(expected, actual));
     ADD_FAILURE() << name << ": " << 100 * diff.fraction_over_threshold
-                  << "% of pixels differ by more than " << kPixelThreshold
+                  << "% of pixels differ by more than " << kTolerance.threshold
                   << "/255, mean difference " << diff.mean_abs_diff << "/255; new frame "
                   << new_frame << ", difference " << diff_image;
   }

@@ -322,10 +322,11 @@ TEST_P(PaperGolden, PanelMatchesGoldenFrame) {
   const Image expected = read_png(golden.string());
   ASSERT_EQ(expected.width, frame.width);
   ASSERT_EQ(expected.height, frame.height);
-  const ImageDiff d = compare_images(expected, frame, 8);
-  // Tolerance: at most 0.5 % of the pixels differ by more than 8/255, mean under 1/255.
-  const bool ok = d.fraction_over_threshold <= 0.005 && d.mean_abs_diff < 1.0;
-  if (!ok) {
+  // The golden-frame rule: at most 0.5 % of the pixels differ by more than 8/255, mean
+  // under 1/255.
+  const FrameTolerance tolerance;
+  const ImageDiff d = compare_images(expected, frame, tolerance.threshold);
+  if (!tolerance.accepts(d)) {
     const fs::path out = TISSU_TEST_OUT_DIR;
     fs::create_directories(out);
     const fs::path got = out / (std::string(g.golden) + ".new.png");

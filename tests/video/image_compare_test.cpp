@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <stdexcept>
 
 #include "video/image.h"
@@ -44,6 +45,44 @@ TEST(CompareImages, HalfChangedImage) {
   EXPECT_DOUBLE_EQ(diff.fraction_over_threshold, 0.5);
   EXPECT_DOUBLE_EQ(diff.mean_abs_diff, 255.0 / 6.0);
   EXPECT_EQ(diff.max_diff, 255);
+}
+
+TEST(CompareImages, PsnrOfOneChangedChannel) {
+  const Image a = filled(2, 1, 100);  // 6 channel values
+  Image b = a;
+  b.pixel(0, 0)[0] = 110;
+  // Mean squared difference 10^2 / 6; PSNR = 10 log10(255^2 * 6 / 100) = 10 log10(3901.5).
+  EXPECT_NEAR(compare_images(a, b).psnr_db, 35.912316, 1e-6);
+}
+
+TEST(CompareImages, PsnrOfIdenticalImagesIsInfinite) {
+  const Image a = filled(3, 3, 9);
+  EXPECT_TRUE(std::isinf(compare_images(a, a).psnr_db));
+  EXPECT_GT(compare_images(a, a).psnr_db, 0.0);
+}
+
+TEST(CompareImages, PsnrOfBlackAgainstWhiteIsZero) {
+  EXPECT_NEAR(compare_images(filled(2, 2, 0), filled(2, 2, 255)).psnr_db, 0.0, 1e-12);
+}
+
+TEST(FrameTolerance, DefaultsAreTheGoldenFrameRule) {
+  const FrameTolerance tolerance;
+  EXPECT_EQ(tolerance.threshold, 8);
+  EXPECT_EQ(tolerance.max_fraction_over, 0.005);
+  EXPECT_EQ(tolerance.max_mean_difference, 1.0);
+}
+
+TEST(FrameTolerance, LimitsTheFractionOverAndTheMean) {
+  const FrameTolerance tolerance;
+  ImageDiff diff;
+  diff.fraction_over_threshold = 0.005;  // at most: accepted
+  diff.mean_abs_diff = 0.99;
+  EXPECT_TRUE(tolerance.accepts(diff));
+  diff.fraction_over_threshold = 0.0051;
+  EXPECT_FALSE(tolerance.accepts(diff));
+  diff.fraction_over_threshold = 0;
+  diff.mean_abs_diff = 1.0;  // must be under: rejected
+  EXPECT_FALSE(tolerance.accepts(diff));
 }
 
 TEST(CompareImages, DifferentSizesAreRejected) {
