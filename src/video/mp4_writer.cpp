@@ -19,16 +19,11 @@ extern "C" {
 #include <vector>
 
 #include "core/error.h"
+#include "video/av_error_text.h"
 #include "video/partial_file.h"
 
 namespace tissu {
 namespace {
-
-std::string av_error_text(int code) {
-  char text[AV_ERROR_MAX_STRING_SIZE] = "";
-  if (av_strerror(code, text, sizeof text) < 0) return "libav error " + std::to_string(code);
-  return text;
-}
 
 // libx264 and the muxer log every file's settings and statistics at the info level, which
 // would break the progress bar on stderr; keep errors only, unless a caller asked for more.
