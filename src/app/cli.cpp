@@ -45,8 +45,10 @@ const char* kRenderHelp =
     "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 4 --check found\n"
     "crossings, 130 interrupted.\n";
 
+}  // namespace
+
 long long parse_count(const std::string& option, const std::string& text, long long min,
-                      long long max = std::numeric_limits<long long>::max()) {
+                      long long max) {
   long long value = 0;
   bool is_count = false;
   try {
@@ -65,8 +67,6 @@ long long parse_count(const std::string& option, const std::string& text, long l
   }
   return value;
 }
-
-}  // namespace
 
 bool walk_arguments(const std::vector<std::string>& args, const std::string& command,
                     const char* help,

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,10 @@ using OptionValue = std::function<const std::string&()>;
 bool walk_arguments(const std::vector<std::string>& args, const std::string& command,
                     const char* help,
                     const std::function<bool(const std::string&, const OptionValue&)>& take);
+
+// `text` as an integer in [min, max]; InputError "<option>: expected ..." otherwise.
+long long parse_count(const std::string& option, const std::string& text, long long min,
+                      long long max = std::numeric_limits<long long>::max());
 
 constexpr int kMaxThreads = 256;
 

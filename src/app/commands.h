@@ -12,6 +12,7 @@ int command_study(const std::vector<std::string>& args);
 int command_stability(const std::vector<std::string>& args);
 int command_figure(const std::vector<std::string>& args);
 int command_paper(const std::vector<std::string>& args);
+int command_compare(const std::vector<std::string>& args);
 
 // Exit code of a finished run.
 constexpr int kExitOk = 0;
@@ -20,5 +21,8 @@ constexpr int kExitBadInput = 2;
 constexpr int kExitDiverged = 3;
 constexpr int kExitCrossings = 4;  // --check found triangles that cross
 constexpr int kExitInterrupted = 130;
+
+// Exit code of `tissu compare` when frames differ beyond tolerance (bad input is still 2).
+constexpr int kExitDifferent = 1;
 
 }  // namespace tissu

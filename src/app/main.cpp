@@ -18,6 +18,7 @@ const char* kHelp =
     "  stability SCENE.json...  largest stable time step of every integrator (bisection)\n"
     "  figure FIGURE.json...  render figure files (panels of runs, with captions) to PNG\n"
     "  paper               run the paper's experiments; write docs/paper-results.md/.csv\n"
+    "  compare A B         compare two PNGs, frame directories or MP4s within a tolerance\n"
     "  help                show this help\n"
     "Run `tissu <command> --help` for the options of a command.\n";
 
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
     if (args[0] == "stability") return command_stability(rest);
     if (args[0] == "figure") return command_figure(rest);
     if (args[0] == "paper") return command_paper(rest);
+    if (args[0] == "compare") return command_compare(rest);
     std::cerr << "tissu: unknown command \"" << args[0] << "\" (see tissu --help)\n";
     return kExitBadInput;
   } catch (const InputError& e) {
