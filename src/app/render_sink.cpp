@@ -81,7 +81,7 @@ struct RenderSink::Job {
   Vec3List positions;
   std::vector<ObstacleShape> obstacles;
   std::vector<std::string> overlay_lines;
-  std::string png_path;  // "" = no PNG of this frame
+  std::vector<std::string> png_paths;  // the PNG sequence's file and/or a still
 };
 
 // The renderer and its scratch frame, owned by the thread that draws.
@@ -216,10 +216,10 @@ void RenderSink::render(Output& out, const Job& job) {
   readback_s_ += seconds_since(t0);
   cpu_.readback += thread_cpu_seconds() - c0;
 
-  // One push per frame: the video frame, plus its PNG (sequence or still) if any.
-  if (!outputs_.mp4_path.empty() || !job.png_path.empty()) {
+  // One push per frame: the video frame, plus its PNGs (sequence and still) if any.
+  if (!outputs_.mp4_path.empty() || !job.png_paths.empty()) {
     t0 = std::chrono::steady_clock::now();
-    pipeline_->push(std::move(image), job.png_path);
+    pipeline_->push(std::move(image), job.png_paths);
     encoder_wait_s_ += seconds_since(t0);
   }
 }
@@ -265,11 +265,10 @@ void RenderSink::frame(const Model& model, const State& state, const FrameStats&
     job.overlay_lines =
         info_overlay_lines(integrator_name(model.integrator), model.triangles.size(), stats.time);
   }
-  if (!outputs_.png_dir.empty()) {
-    job.png_path = numbered_png(outputs_.png_dir, frame_index_);
-  } else if (std::find(outputs_.still_frames.begin(), outputs_.still_frames.end(),
-                       frame_index_) != outputs_.still_frames.end()) {
-    job.png_path = numbered_png(outputs_.stills_dir, frame_index_);
+  if (!outputs_.png_dir.empty()) job.png_paths.push_back(numbered_png(outputs_.png_dir, frame_index_));
+  if (std::find(outputs_.still_frames.begin(), outputs_.still_frames.end(), frame_index_) !=
+      outputs_.still_frames.end()) {
+    job.png_paths.push_back(numbered_png(outputs_.stills_dir, frame_index_));
   }
 
   if (serial_) {

@@ -31,7 +31,7 @@ Image FrameEncoderPipeline::take_frame_buffer(int width, int height) {
   return image;
 }
 
-void FrameEncoderPipeline::push(Image frame, std::string png_path) {
+void FrameEncoderPipeline::push(Image frame, std::vector<std::string> png_paths) {
   if (video_ && (frame.width != video_->width() || frame.height != video_->height())) {
     throw std::invalid_argument(video_->path() + ": frame is " + std::to_string(frame.width) + "x" +
                                 std::to_string(frame.height) + ", the video is " +
@@ -44,7 +44,7 @@ void FrameEncoderPipeline::push(Image frame, std::string png_path) {
   if (closed_) throw std::logic_error("FrameEncoderPipeline::push: the pipeline is closed");
   space_free_.wait(lock, [&] { return error_ || queue_.size() < capacity_; });
   if (error_) std::rethrow_exception(error_);
-  queue_.push_back(Job{std::move(frame), std::move(png_path)});
+  queue_.push_back(Job{std::move(frame), std::move(png_paths)});
   job_ready_.notify_one();
 }
 
@@ -63,7 +63,7 @@ void FrameEncoderPipeline::work() {
     try {
       if (video_) video_->write_frame(job.frame);
       const auto png_start = std::chrono::steady_clock::now();
-      if (!job.png_path.empty()) write_png(job.png_path, job.frame);
+      for (const std::string& path : job.png_paths) write_png(path, job.frame);
       png_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - png_start).count();
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex_);

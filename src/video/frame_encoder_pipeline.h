@@ -34,9 +34,10 @@ class FrameEncoderPipeline {
   // Its pixel values are unspecified.
   Image take_frame_buffer(int width, int height);
 
-  // Queues `frame` (rows top to bottom) for the video and, if `png_path` is not empty, for a
-  // PNG file. Blocks while the queue is full.
-  void push(Image frame, std::string png_path = {});
+  // Queues `frame` (rows top to bottom) for the video and for a PNG file at each of
+  // `png_paths` (a frame of a PNG sequence can also be a still). Blocks while the queue is
+  // full.
+  void push(Image frame, std::vector<std::string> png_paths = {});
 
   // Encodes what is queued, completes the MP4 and moves it into place.
   void finish();
@@ -51,7 +52,7 @@ class FrameEncoderPipeline {
  private:
   struct Job {
     Image frame;
-    std::string png_path;
+    std::vector<std::string> png_paths;
   };
 
   void work();

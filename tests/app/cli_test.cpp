@@ -4,7 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -21,6 +23,7 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
 using Result = tissu::test::ShellResult;
+using tissu::test::read_text;
 
 class Cli : public tissu::test::TempDirTest {
  protected:
@@ -261,4 +264,38 @@ TEST_F(Cli, RenderWritesOneFramePerFrameTime) {
   const Json report = read_json(out / "report.json");
   ASSERT_EQ(report["frames"].size(), 16u);
   EXPECT_NEAR(report["frames"].back()["time"].get<double>(), 0.5, 1e-12);
+}
+
+namespace {
+
+// The files directly in `dir` (names, sorted); none when it does not exist.
+std::vector<std::string> names_in(const fs::path& dir) {
+  std::vector<std::string> out;
+  if (!fs::exists(dir)) return out;
+  for (const auto& entry : fs::directory_iterator(dir)) out.push_back(entry.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<std::string> numbered_pngs(std::initializer_list<int> frames) {
+  std::vector<std::string> out;
+  for (int k : frames) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06d.png", k);
+    out.push_back(name);
+  }
+  return out;
+}
+
+}  // namespace
+
+// --png and --stills together write both: every frame to png/, and the stills to stills/.
+TEST_F(Cli, PngSequenceAndStillsAreBothWritten) {
+  const std::string scene = write_scene("fall.json", falling_scene(0.5));
+  const fs::path out = dir_ / "out";
+  const Result r =
+      run("render " + scene + " --out " + out.string() + " --png --stills 2 --no-mp4 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(names_in(out / "png").size(), 16u);
+  EXPECT_EQ(names_in(out / "stills"), numbered_pngs({7, 15}));
 }

@@ -43,8 +43,9 @@ TEST(FrameEncoderPipeline, WritesPngsOfTheChosenFrames) {
   ScratchDir dir;
   FrameEncoderPipeline pipeline(std::make_unique<Mp4Writer>(dir.file("run.mp4"), kWidth, kHeight, 30));
   for (int i = 0; i < 6; ++i) {
-    pipeline.push(test::moving_gradient(kWidth, kHeight, i),
-                  i % 3 == 0 ? dir.file("frame" + std::to_string(i) + ".png") : "");
+    std::vector<std::string> pngs;
+    if (i % 3 == 0) pngs.push_back(dir.file("frame" + std::to_string(i) + ".png"));
+    pipeline.push(test::moving_gradient(kWidth, kHeight, i), pngs);
   }
   pipeline.finish();
   EXPECT_EQ(dir.entries(), (std::vector<std::string>{"frame0.png", "frame3.png", "run.mp4"}));
@@ -55,9 +56,19 @@ TEST(FrameEncoderPipeline, WritesPngsOfTheChosenFrames) {
 TEST(FrameEncoderPipeline, PngsOnlyWithoutVideo) {
   ScratchDir dir;
   FrameEncoderPipeline pipeline(nullptr);
-  pipeline.push(test::moving_gradient(16, 8, 0), dir.file("only.png"));
+  pipeline.push(test::moving_gradient(16, 8, 0), {dir.file("only.png")});
   pipeline.finish();
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"only.png"});
+}
+
+// A frame of a PNG sequence that is also a still goes to both files.
+TEST(FrameEncoderPipeline, OneFrameToSeveralPngs) {
+  ScratchDir dir;
+  FrameEncoderPipeline pipeline(nullptr);
+  pipeline.push(test::moving_gradient(16, 8, 0), {dir.file("a.png"), dir.file("b.png")});
+  pipeline.finish();
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"a.png", "b.png"}));
+  EXPECT_TRUE(read_png(dir.file("b.png")).rgb == test::moving_gradient(16, 8, 0).rgb);
 }
 
 // Encoding takes far longer than pushing, so without back-pressure the producer would run
@@ -81,7 +92,7 @@ TEST(FrameEncoderPipeline, WorkerErrorIsRethrownAndRemovesTheVideo) {
   ScratchDir dir;
   const std::string bad_png = dir.file("missing/frame.png");
   FrameEncoderPipeline pipeline(std::make_unique<Mp4Writer>(dir.file("run.mp4"), kWidth, kHeight, 30));
-  pipeline.push(test::moving_gradient(kWidth, kHeight, 0), bad_png);
+  pipeline.push(test::moving_gradient(kWidth, kHeight, 0), {bad_png});
   std::string message;
   try {
     for (int i = 1; i < 1000; ++i) pipeline.push(test::moving_gradient(kWidth, kHeight, i));
