@@ -78,14 +78,14 @@ bool walk_arguments(const std::vector<std::string>& args, const std::string& com
       return false;
     }
     const OptionValue value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw InputError(command + ": " + a + " needs a value");
+      if (i + 1 >= args.size()) throw UsageError(command + ": " + a + " needs a value");
       return args[++i];
     };
     if (take(a, value)) continue;
     if (!a.empty() && a[0] == '-') {
-      throw InputError(command + ": unknown option " + a + " (see " + command + " --help)");
+      throw UsageError(command + ": unknown option " + a + " (see " + command + " --help)");
     }
-    throw InputError(command + ": unexpected argument \"" + a + "\"");
+    throw UsageError(command + ": unexpected argument \"" + a + "\"");
   }
   return true;
 }
@@ -127,7 +127,7 @@ bool parse_scene_command(const std::vector<std::string>& args, bool render,
         return true;
       });
   if (!go) return false;
-  if (out.scene_file.empty()) throw InputError(command + ": missing SCENE.json (see --help)");
+  if (out.scene_file.empty()) throw UsageError(command + ": missing SCENE.json (see --help)");
   if (out.out_dir.empty()) {
     out.out_dir = (std::filesystem::path("out") /
                    std::filesystem::path(out.scene_file).stem()).string();

@@ -8,13 +8,13 @@
 
 namespace tissu {
 
-// The next argument, as the value of the option being read; throws InputError
+// The next argument, as the value of the option being read; throws UsageError
 // "<command>: <option> needs a value" when there is none.
 using OptionValue = std::function<const std::string&()>;
 
 // Walks a subcommand's arguments (after its name). "--help" or "-h" prints `help` and
 // returns false. Every other argument goes to take(argument, value), which returns false
-// for one it does not know: an InputError "<command>: unknown option ARG (see <command>
+// for one it does not know: a UsageError "<command>: unknown option ARG (see <command>
 // --help)" when ARG starts with '-', else "<command>: unexpected argument \"ARG\"".
 bool walk_arguments(const std::vector<std::string>& args, const std::string& command,
                     const char* help,

@@ -57,12 +57,12 @@ bool parse_options(const std::vector<std::string>& args, FigureOptions& o) {
         return true;
       });
   if (!go) return false;
-  if (o.figures.empty()) throw InputError("tissu figure: no figure file given (see tissu figure --help)");
+  if (o.figures.empty()) throw UsageError("tissu figure: no figure file given (see tissu figure --help)");
   if (!o.out_file.empty() && o.figures.size() > 1) {
-    throw InputError("tissu figure: --out names one image; use --out-dir for several figures");
+    throw UsageError("tissu figure: --out names one image; use --out-dir for several figures");
   }
   if (!o.out_file.empty() && !o.out_dir.empty()) {
-    throw InputError("tissu figure: give either --out or --out-dir");
+    throw UsageError("tissu figure: give either --out or --out-dir");
   }
   if (o.out_dir.empty()) o.out_dir = "out/figures";
   return true;

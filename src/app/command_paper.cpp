@@ -50,7 +50,7 @@ int command_paper(const std::vector<std::string>& args) {
         o.repeats = std::stoi(v, &used);
         if (used != v.size() || o.repeats < 1 || o.repeats > 100) throw std::invalid_argument(v);
       } catch (const std::exception&) {
-        throw InputError("tissu paper: --repeats must be an integer in 1..100, got " + v);
+        throw UsageError("tissu paper: --repeats must be an integer in 1..100, got " + v);
       }
     } else if (a == "--quick") {
       o.quick = true;
@@ -58,7 +58,7 @@ int command_paper(const std::vector<std::string>& args) {
     } else if (a == "--quiet") {
       quiet = true;
     } else {
-      throw InputError("tissu paper: unknown argument " + a + " (see tissu paper --help)");
+      throw UsageError("tissu paper: unknown argument " + a + " (see tissu paper --help)");
     }
     return true;
   });

@@ -128,7 +128,7 @@ bool parse(const std::vector<std::string>& args, const std::string& command, con
     return true;
   });
   if (!go) return false;
-  if (p.scenes.empty()) throw InputError(command + ": missing SCENE.json (see --help)");
+  if (p.scenes.empty()) throw UsageError(command + ": missing SCENE.json (see --help)");
   return true;
 }
 

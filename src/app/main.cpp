@@ -42,6 +42,9 @@ int main(int argc, char** argv) {
     if (args[0] == "compare") return command_compare(rest);
     std::cerr << "tissu: unknown command \"" << args[0] << "\" (see tissu --help)\n";
     return kExitBadInput;
+  } catch (const UsageError& e) {
+    std::cerr << e.what() << "\n";
+    return kExitBadInput;
   } catch (const InputError& e) {
     std::cerr << "tissu: " << e.what() << "\n";
     return kExitBadInput;

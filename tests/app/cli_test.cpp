@@ -128,7 +128,7 @@ TEST_F(Cli, BadOverrideAndUsageExitTwo) {
       << r.err;
   r = run("run " + path + " --frobnicate");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err, "tissu: tissu run: unknown option --frobnicate (see tissu run --help)\n");
+  EXPECT_EQ(r.err, "tissu run: unknown option --frobnicate (see tissu run --help)\n");
   r = run("run " + path + " --threads 0");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "tissu: --threads: expected an integer >= 1, got \"0\"\n");
@@ -298,4 +298,18 @@ TEST_F(Cli, PngSequenceAndStillsAreBothWritten) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(names_in(out / "png").size(), 16u);
   EXPECT_EQ(names_in(out / "stills"), numbered_pngs({7, 15}));
+}
+
+// Usage errors name the command once: "tissu render: ...", not "tissu: tissu render: ...".
+TEST_F(Cli, UsageErrorsNameTheCommandOnce) {
+  const std::string path = write_scene("s.json", small_scene());
+  Result r = run("render " + path + " --frobnicate");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "tissu render: unknown option --frobnicate (see tissu render --help)\n");
+  r = run("render");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "tissu render: missing SCENE.json (see --help)\n");
+  r = run("render " + path + " --out");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "tissu render: --out needs a value\n");
 }
