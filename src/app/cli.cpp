@@ -141,12 +141,12 @@ bool parse_scene_command(const std::vector<std::string>& args, bool render,
 void prepare_output_dir(const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError(dir + ": cannot create output directory: " + ec.message());
+  if (ec) throw OutputError(dir + ": cannot create output directory: " + ec.message());
   if (!std::filesystem::is_directory(dir)) {
-    throw InputError(dir + ": output path exists and is not a directory");
+    throw OutputError(dir + ": output path exists and is not a directory");
   }
   if (access(dir.c_str(), W_OK) != 0) {
-    throw InputError(dir + ": output directory is not writable: " + errno_text(errno));
+    throw OutputError(dir + ": output directory is not writable: " + errno_text(errno));
   }
 }
 

@@ -48,7 +48,8 @@ struct SceneCommandOptions {
 bool parse_scene_command(const std::vector<std::string>& args, bool render,
                          SceneCommandOptions& out);
 
-// Creates `dir` (and parents) and checks it can be written; InputError otherwise.
+// Creates `dir` (and parents) and checks it can be written; OutputError (exit code 1)
+// otherwise.
 void prepare_output_dir(const std::string& dir);
 
 // Output directories of one run, created with prepare_output_dir. It remembers the

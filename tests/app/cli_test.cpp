@@ -146,7 +146,7 @@ TEST_F(Cli, OutputDirectoryThatCannotBeCreated) {
   const std::string path = write_scene("s.json", small_scene());
   std::ofstream(dir_ / "file") << "x";
   const Result r = run("run " + path + " --out " + (dir_ / "file" / "sub").string());
-  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("cannot create output directory"), std::string::npos) << r.err;
 }
 

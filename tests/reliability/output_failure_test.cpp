@@ -25,10 +25,14 @@ class OutputFailure : public TissuProcess {
   }
 };
 
+// An output problem, exit code 1 (README), in one line naming the directory.
 TEST_F(OutputFailure, OutputDirectoryThatCannotBeCreated) {
   write("file", "x");
   const Outcome o = run({"run", scene(), "--out", "file/sub", "--quiet"});
-  EXPECT_BAD_INPUT(o, "file/sub: cannot create output directory");
+  EXPECT_EQ(o.exit_code, 1) << o.err;
+  EXPECT_EQ(o.lines(), 1) << o.err;
+  EXPECT_EQ(o.err.rfind("tissu: file/sub: cannot create output directory: ", 0), 0u) << o.err;
+  EXPECT_TRUE(o.created.empty()) << "created " << o.created.front();
 }
 
 // --out is created first; when the report's directory then cannot be created, the run
@@ -36,7 +40,10 @@ TEST_F(OutputFailure, OutputDirectoryThatCannotBeCreated) {
 TEST_F(OutputFailure, ReportDirectoryThatCannotBeCreatedLeavesNoOutputDirectory) {
   write("file", "x");
   const Outcome o = run({"run", scene(), "--out", "out", "--report", "file/r.json", "--quiet"});
-  EXPECT_BAD_INPUT(o, "file: ");
+  EXPECT_EQ(o.exit_code, 1) << o.err;
+  EXPECT_EQ(o.lines(), 1) << o.err;
+  EXPECT_EQ(o.err.rfind("tissu: file: ", 0), 0u) << o.err;
+  EXPECT_TRUE(o.created.empty()) << "created " << o.created.front();
 }
 
 TEST_F(OutputFailure, FullDiskWhileWritingTheReport) {
