@@ -94,8 +94,12 @@ struct RenderSink::Output {
 
 RenderSettings render_settings_of(const Scene& scene) {
   if (scene.render.is_null()) return RenderSettings{};
-  JsonReader reader(scene.render, "render");
-  return parse_render_settings(reader);
+  try {
+    JsonReader reader(scene.render, "render");
+    return parse_render_settings(reader);
+  } catch (const InputError& e) {
+    throw scene_error(scene, e.what());
+  }
 }
 
 double frames_per_simulated_second(const RenderSettings& settings) {

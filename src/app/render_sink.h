@@ -19,7 +19,8 @@
 
 namespace tissu {
 
-// The scene's render block, validated (defaults when the scene has none).
+// The scene's render block, validated (defaults when the scene has none). Errors name the
+// scene file, or the --set override that set the value.
 RenderSettings render_settings_of(const Scene& scene);
 
 // Video frames per simulated second: fps * slow_motion.

@@ -118,8 +118,12 @@ PanelRun run_panel(const Scene& scene, long long step_shown, long long frame_eve
 RenderSettings panel_render_settings(const Scene& scene, int width, int height) {
   RenderSettings settings;
   if (!scene.render.is_null()) {
-    JsonReader reader(scene.render, "render");
-    settings = parse_render_settings(reader);
+    try {
+      JsonReader reader(scene.render, "render");
+      settings = parse_render_settings(reader);
+    } catch (const InputError& e) {
+      throw scene_error(scene, e.what());
+    }
   }
   settings.width = width;
   settings.height = height;

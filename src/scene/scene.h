@@ -55,6 +55,7 @@ struct PinSpec {
 
 struct Scene {
   std::string file;  // scene file path ("" when built in memory)
+  std::vector<std::string> overrides;  // the --set assignments applied, for naming errors
   std::string name;
   double dt = 0.0;        // s
   long long steps = 0;
@@ -100,6 +101,11 @@ Scene parse_scene(const Json& doc, const std::string& file);
 // read + overrides + parse; errors prefixed with the file name, or with the override that
 // caused them.
 Scene load_scene(const std::string& file, const std::vector<std::string>& overrides = {});
+
+// The error for `message` ("<json.path>: <problem>") about a value of `scene`, named as
+// load_scene names its own: by the --set override that set the value, else by the scene
+// file. For the parts of a scene validated later (its render block).
+InputError scene_error(const Scene& scene, const std::string& message);
 
 // Model and initial State of a scene (loads or generates the mesh, applies the transform,
 // pins, masses).

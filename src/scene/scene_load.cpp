@@ -148,28 +148,50 @@ void apply_override(Json& doc, const std::string& assignment) {
   *node = value;
 }
 
+namespace {
+
+// The override among `overrides` that set the value `message` ("<json.path>: ...") is
+// about, or nullptr.
+const std::string* override_named_by(const std::vector<std::string>& overrides,
+                                     const std::string& message) {
+  std::string dotted = message.substr(0, message.find(':'));
+  for (char& c : dotted) c = (c == '[' || c == ']') ? '.' : c;
+  dotted.erase(std::unique(dotted.begin(), dotted.end(),
+                           [](char a, char b) { return a == '.' && b == '.'; }),
+               dotted.end());
+  if (!dotted.empty() && dotted.back() == '.') dotted.pop_back();
+  for (const std::string& o : overrides) {
+    const std::string key = o.substr(0, o.find('='));
+    if (dotted == key || dotted.rfind(key + ".", 0) == 0) return &o;
+  }
+  return nullptr;
+}
+
+InputError named_scene_error(const std::string& file, const std::vector<std::string>& overrides,
+                             const std::string& message) {
+  if (const std::string* o = override_named_by(overrides, message)) {
+    return InputError("--set " + *o + ": " + message);
+  }
+  return InputError(file.empty() ? message : file + ": " + message);
+}
+
+}  // namespace
+
 Scene load_scene(const std::string& file, const std::vector<std::string>& overrides) {
   Json doc = read_scene_json(file);
   for (const std::string& o : overrides) apply_override(doc, o);
+  Scene scene;
   try {
-    return parse_scene(doc, file);
+    scene = parse_scene(doc, file);
   } catch (const InputError& e) {
-    // Name the override when the bad value came from one.
-    const std::string message = e.what();
-    for (const std::string& o : overrides) {
-      const std::string key = o.substr(0, o.find('='));
-      std::string dotted = message.substr(0, message.find(':'));
-      for (char& c : dotted) c = (c == '[' || c == ']') ? '.' : c;
-      dotted.erase(std::unique(dotted.begin(), dotted.end(),
-                               [](char a, char b) { return a == '.' && b == '.'; }),
-                   dotted.end());
-      if (!dotted.empty() && dotted.back() == '.') dotted.pop_back();
-      if (dotted == key || dotted.rfind(key + ".", 0) == 0) {
-        throw InputError("--set " + o + ": " + message);
-      }
-    }
-    throw InputError(file + ": " + message);
+    throw named_scene_error(file, overrides, e.what());
   }
+  scene.overrides = overrides;
+  return scene;
+}
+
+InputError scene_error(const Scene& scene, const std::string& message) {
+  return named_scene_error(scene.file, scene.overrides, message);
 }
 
 }  // namespace tissu

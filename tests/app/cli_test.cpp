@@ -313,3 +313,22 @@ TEST_F(Cli, UsageErrorsNameTheCommandOnce) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err, "tissu render: --out needs a value\n");
 }
+
+// A bad value in the scene's render block names the scene file, as every scene error does.
+TEST_F(Cli, RenderBlockErrorsNameTheSceneFile) {
+  Json scene = falling_scene(0.5);
+  scene["render"]["fps"] = -1;
+  const std::string path = write_scene("bad.json", scene);
+  const fs::path out = dir_ / "out";
+  for (const char* command : {"render", "run"}) {
+    const Result r = run(std::string(command) + " " + path + " --out " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << command;
+    EXPECT_EQ(r.err.rfind("tissu: " + path + ": render.fps: ", 0), 0u) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+  // A value set with --set is named by the override, as for the rest of the scene.
+  const Result r = run("render " + write_scene("s.json", falling_scene(0.5)) + " --out " +
+                       out.string() + " --set render.fps=0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err.rfind("tissu: --set render.fps=0: render.fps: ", 0), 0u) << r.err;
+}
