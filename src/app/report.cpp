@@ -25,6 +25,20 @@ nlohmann::ordered_json frame_row(const FrameStats& f) {
   return row;
 }
 
+// How the run ended, in words.
+std::string end_message(const RunResult& result) {
+  switch (result.status) {
+    case RunStatus::Ok: return "all steps done";
+    case RunStatus::Stopped: return "stopped at --frames";
+    case RunStatus::Interrupted: return "interrupted by a signal";
+    case RunStatus::Diverged: break;
+  }
+  if (!result.divergence) return "diverged";
+  const Divergence& d = *result.divergence;
+  return "diverged at step " + std::to_string(d.step) + ", vertex " + std::to_string(d.vertex) +
+         ": " + d.reason;
+}
+
 }  // namespace
 
 nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const RunResult& result) {
@@ -40,6 +54,7 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
   report["steps_done"] = result.steps_done;
   report["simulated_time"] = static_cast<double>(result.steps_done) * model.dt;
   report["status"] = run_status_name(result.status);
+  report["message"] = end_message(result);
   if (result.divergence) {
     const Divergence& d = *result.divergence;
     report["divergence"] = {

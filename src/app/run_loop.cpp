@@ -29,6 +29,7 @@ std::string obj_frame_path(const std::string& dir, long long step) {
 const char* run_status_name(RunStatus status) {
   switch (status) {
     case RunStatus::Ok: return "ok";
+    case RunStatus::Stopped: return "stopped";
     case RunStatus::Diverged: return "diverged";
     case RunStatus::Interrupted: return "interrupted";
   }
@@ -75,6 +76,12 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
   const double rate = options.frame_rate > 0.0 ? options.frame_rate : 1.0 / model.dt;
   long long next_frame = 0;
   auto frame_time = [&](long long k) { return static_cast<double>(k) / rate; };
+
+  // False once the run has the frames it wants: it then stops (Stopped).
+  auto wants_frame = [&] {
+    const bool enough = options.max_frames >= 0 && next_frame >= options.max_frames;
+    return !enough && (!sink || sink->wants_more());
+  };
   State before;  // the state before the step, kept when a frame falls inside the step
   State between;
 
@@ -82,7 +89,7 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
     const bool last = s == scene.steps;
     // Frames that fall inside the step just taken, then one at its end.
     if (s > 0 && !before.x.empty()) {
-      while (frame_time(next_frame) < state.t - kSameTime * model.dt) {
+      while (wants_frame() && frame_time(next_frame) < state.t - kSameTime * model.dt) {
         const double w = (frame_time(next_frame) - before.t) / (state.t - before.t);
         between.t = frame_time(next_frame);
         between.step = before.step;
@@ -96,7 +103,7 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
         ++next_frame;
       }
     }
-    if (std::fabs(frame_time(next_frame) - state.t) <= kSameTime * model.dt) {
+    if (wants_frame() && std::fabs(frame_time(next_frame) - state.t) <= kSameTime * model.dt) {
       emit_frame(state);
       ++next_frame;
     }
@@ -104,7 +111,11 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
       write_obj(obj_frame_path(options.obj_dir, s), state.x, model.rest_uv, model.triangles);
     }
     if (options.progress) progress.update(s);
-    if (last || (sink && !sink->wants_more())) break;
+    if (last) break;
+    if (!wants_frame()) {
+      result.status = RunStatus::Stopped;
+      break;
+    }
     if (interrupt_requested()) {
       result.status = RunStatus::Interrupted;
       break;

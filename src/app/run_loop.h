@@ -13,7 +13,9 @@
 
 namespace tissu {
 
-enum class RunStatus { Ok, Diverged, Interrupted };
+// How a run ended: Ok, every step done; Stopped, at RunOptions::max_frames (or when the
+// sink wanted no more frames) before that; Diverged; Interrupted by SIGINT or SIGTERM.
+enum class RunStatus { Ok, Stopped, Diverged, Interrupted };
 const char* run_status_name(RunStatus status);
 
 // Receives the state at every frame time k / frame_rate (k = 0, 1, ...) up to the end of
@@ -24,7 +26,7 @@ class FrameSink {
  public:
   virtual ~FrameSink() = default;
   virtual void frame(const Model& model, const State& state, const FrameStats& stats) = 0;
-  // False once the sink has all the frames it wants: the run then stops early.
+  // False once the sink has all the frames it wants: the run then stops early (Stopped).
   virtual bool wants_more() const { return true; }
 };
 
@@ -40,6 +42,7 @@ struct StageTimes {
 
 struct RunOptions {
   double frame_rate = 0.0;    // frames per simulated second (fps x slow motion); 0: every step
+  long long max_frames = -1;  // stop after this many frames (status Stopped); -1 = all
   int obj_every = 0;          // steps between OBJ snapshots; 0 = only final.obj (when obj_dir set)
   std::string obj_dir;        // "" = no OBJ output
   int threads = 1;            // threads for each step (same results for any count)

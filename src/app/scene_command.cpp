@@ -22,6 +22,7 @@ namespace fs = std::filesystem;
 int exit_code_of(const RunResult& result) {
   switch (result.status) {
     case RunStatus::Ok:
+    case RunStatus::Stopped:  // as asked (--frames)
       for (const FrameCheck& c : result.checks) {
         if (!c.clean()) return kExitCrossings;
       }
@@ -32,7 +33,7 @@ int exit_code_of(const RunResult& result) {
   return kExitOk;
 }
 
-void print_summary(const Scene& scene, const RunResult& result) {
+void print_summary(const Scene& scene, const RunResult& result, long long max_frames) {
   if (result.divergence) {
     const Divergence& d = *result.divergence;
     std::cerr << "tissu: " << scene.name << ": diverged at step " << d.step << " (t = " << d.time
@@ -40,6 +41,9 @@ void print_summary(const Scene& scene, const RunResult& result) {
   } else if (result.status == RunStatus::Interrupted) {
     std::cerr << "tissu: " << scene.name << ": interrupted after " << result.steps_done
               << " steps\n";
+  } else if (result.status == RunStatus::Stopped) {
+    std::cerr << "tissu: " << scene.name << ": stopped at --frames " << max_frames << " after "
+              << result.steps_done << " of " << scene.steps << " steps\n";
   }
   if (!result.checks.empty()) {
     size_t dirty = 0;
@@ -88,8 +92,10 @@ int run_scene(const std::vector<std::string>& args, bool render) {
   RenderOutputs outputs;
   if (render) {
     const long long frames = frame_count(scene.steps * scene.dt, run.frame_rate);
-    outputs.max_frames = options.max_frames;
-    const long long shown = options.max_frames > 0 ? std::min(frames, options.max_frames) : frames;
+    // --frames N stops the run after frame N - 1 (status stopped), unless the scene ends
+    // there anyway.
+    if (options.max_frames > 0 && options.max_frames < frames) run.max_frames = options.max_frames;
+    const long long shown = run.max_frames > 0 ? run.max_frames : frames;
     if (options.mp4) outputs.mp4_path = (fs::path(options.out_dir) / (scene.name + ".mp4")).string();
     if (options.png) outputs.png_dir = (fs::path(options.out_dir) / "png").string();
     if (options.stills > 0) {
@@ -135,7 +141,7 @@ int run_scene(const std::vector<std::string>& args, bool render) {
     throw;
   }
   write_text_file(options.report_path, make_report(scene, sim.model, result).dump(1) + "\n");
-  print_summary(scene, result);
+  print_summary(scene, result, run.max_frames);
   if (!options.quiet) {
     if (!outputs.mp4_path.empty()) std::cerr << "tissu: video: " << outputs.mp4_path << "\n";
     if (!outputs.stills_dir.empty()) std::cerr << "tissu: stills: " << outputs.stills_dir << "/\n";

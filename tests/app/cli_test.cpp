@@ -332,3 +332,42 @@ TEST_F(Cli, RenderBlockErrorsNameTheSceneFile) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err.rfind("tissu: --set render.fps=0: render.fps: ", 0), 0u) << r.err;
 }
+
+// --frames N stops the run before the scene's steps are all done: the report says so.
+TEST_F(Cli, FramesLimitReportsStopped) {
+  const std::string scene = write_scene("fall.json", falling_scene(0.5));
+  const fs::path out = dir_ / "out";
+  const Result r =
+      run("render " + scene + " --out " + out.string() + " --frames 5 --png --no-mp4 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(names_in(out / "png"), numbered_pngs({0, 1, 2, 3, 4}));
+  const Json report = read_json(out / "report.json");
+  EXPECT_EQ(report["status"], "stopped");
+  EXPECT_EQ(report["message"], "stopped at --frames");
+  EXPECT_LT(report["steps_done"].get<long long>(), report["steps_requested"].get<long long>());
+  EXPECT_NE(r.err.find("tissu: fall: stopped at --frames 5"), std::string::npos) << r.err;
+
+  // As many frames as the scene has, or more: every step is done, status ok.
+  const Result all = run("render " + scene + " --out " + (dir_ / "all").string() +
+                         " --frames 16 --no-mp4 --quiet");
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  const Json whole = read_json(dir_ / "all" / "report.json");
+  EXPECT_EQ(whole["status"], "ok");
+  EXPECT_EQ(whole["message"], "all steps done");
+  EXPECT_EQ(whole["steps_done"], whole["steps_requested"]);
+
+  // In slow motion a step holds several frames: the run still stops at frame N - 1.
+  Json slow = falling_scene(0.5);
+  slow["dt"] = 0.02;
+  slow["render"]["slow_motion"] = 10;  // 300 frames per simulated second, 6 per step
+  const fs::path slow_out = dir_ / "slow";
+  const Result s = run("render " + write_scene("slow.json", slow) + " --out " +
+                       slow_out.string() + " --frames 4 --png --no-mp4 --quiet");
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  EXPECT_EQ(names_in(slow_out / "png"), numbered_pngs({0, 1, 2, 3}));
+  const Json stopped = read_json(slow_out / "report.json");
+  EXPECT_EQ(stopped["status"], "stopped");
+  ASSERT_EQ(stopped["frames"].size(), 5u) << "4 frames and the state the run ends on";
+  EXPECT_NEAR(stopped["frames"][3]["time"].get<double>(), 3.0 / 300.0, 1e-12);
+  EXPECT_NEAR(stopped["frames"][4]["time"].get<double>(), 0.02, 1e-12);
+}
