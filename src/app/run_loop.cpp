@@ -1,5 +1,6 @@
 #include "app/run_loop.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -53,7 +54,6 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
   ws.threads = options.threads;
   RunResult result;
   result.threads = force_threads(options.threads, model);
-  ProgressBar progress = ProgressBar::on_stderr(options.progress_label, scene.steps);
   Vec3List last_frame_x = state.x;  // final.obj falls back to it after a divergence
 
   bool end_recorded = false;  // the state the run ends on is the last row
@@ -82,6 +82,12 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
     const bool enough = options.max_frames >= 0 && next_frame >= options.max_frames;
     return !enough && (!sink || sink->wants_more());
   };
+
+  // The progress line counts frames and simulated time, up to the last frame.
+  long long total_frames = frame_count(static_cast<double>(scene.steps) * model.dt, rate);
+  if (options.max_frames >= 0) total_frames = std::min(total_frames, options.max_frames);
+  ProgressBar progress = ProgressBar::on_stderr(options.progress_label, scene.steps);
+  progress.count_frames(total_frames, frame_time(total_frames - 1));
   State before;  // the state before the step, kept when a frame falls inside the step
   State between;
 
@@ -110,7 +116,7 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
     if (!options.obj_dir.empty() && options.obj_every > 0 && s % options.obj_every == 0) {
       write_obj(obj_frame_path(options.obj_dir, s), state.x, model.rest_uv, model.triangles);
     }
-    if (options.progress) progress.update(s);
+    if (options.progress) progress.update_frames(next_frame, state.t);
     if (last) break;
     if (!wants_frame()) {
       result.status = RunStatus::Stopped;

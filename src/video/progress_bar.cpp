@@ -38,44 +38,76 @@ std::string ProgressBar::format_duration(double seconds) {
   return text;
 }
 
-std::string ProgressBar::status_text(long long done, double elapsed) const {
-  const bool terminal = settings_.is_terminal;
-  std::string text = label_ + (terminal ? " " : ": ");
-  if (total_ > 0) {
-    const double fraction = std::clamp(double(done) / double(total_), 0.0, 1.0);
-    if (terminal) {
-      const int filled = int(fraction * settings_.bar_width);
-      text += "[" + std::string(filled, '#') + std::string(settings_.bar_width - filled, '-') + "] ";
-    }
-    const int percent = int(fraction * 100);
-    char numbers[64];
-    if (terminal) {
-      std::snprintf(numbers, sizeof numbers, "%3d%%  %lld/%lld", percent, done, total_);
-    } else {
-      std::snprintf(numbers, sizeof numbers, "%lld/%lld (%d%%)", done, total_, percent);
-    }
-    text += numbers;
+void ProgressBar::count_frames(long long total_frames, double end_time) {
+  count_frames_ = true;
+  total_frames_ = total_frames;
+  end_time_ = end_time;
+}
+
+double ProgressBar::fraction() const {
+  if (count_frames_) {
+    if (end_time_ > 0.0) return std::clamp(time_ / end_time_, 0.0, 1.0);
+    return total_frames_ > 0 ? std::clamp(double(frames_) / double(total_frames_), 0.0, 1.0) : 0.0;
+  }
+  return total_ > 0 ? std::clamp(double(done_) / double(total_), 0.0, 1.0) : 0.0;
+}
+
+bool ProgressBar::complete() const {
+  return count_frames_ ? frames_ >= total_frames_ : total_ <= 0 || done_ >= total_;
+}
+
+// "135/300", or "frame=  45/120 time=1.500s" (at least 4 digits wide, as ffmpeg's).
+std::string ProgressBar::count_text() const {
+  char text[96];
+  if (count_frames_) {
+    const int width = std::max(4, int(std::to_string(total_frames_).size()));
+    std::snprintf(text, sizeof text, "frame=%*lld/%lld time=%.3fs", width, frames_, total_frames_,
+                  time_);
+  } else if (total_ > 0) {
+    std::snprintf(text, sizeof text, "%lld/%lld", done_, total_);
   } else {
-    text += std::to_string(done);
-  }
-  const std::string gap = terminal ? "  " : ", ";
-  if (finished_) {
-    if (total_ > 0 && done < total_) return text + gap + "stopped after " + format_duration(elapsed);
-    return text + gap + "done in " + format_duration(elapsed);
-  }
-  text += gap + "elapsed " + format_duration(elapsed);
-  if (total_ > 0) {
-    if (done > 0 && elapsed > 0) {
-      text += gap + "ETA " + format_duration(elapsed / double(done) * double(std::max(0LL, total_ - done)));
-    } else {
-      text += gap + "ETA --:--";
-    }
+    std::snprintf(text, sizeof text, "%lld", done_);
   }
   return text;
 }
 
-void ProgressBar::print(long long done, double now) {
-  const std::string text = status_text(done, now - start_);
+std::string ProgressBar::status_text(double elapsed) const {
+  const bool terminal = settings_.is_terminal;
+  const bool known_total = count_frames_ || total_ > 0;
+  const double f = fraction();
+  std::string text = label_ + (terminal ? " " : ": ");
+  if (known_total) {
+    const int percent = int(f * 100);
+    char numbers[32];
+    if (terminal) {
+      const int filled = int(f * settings_.bar_width);
+      text += "[" + std::string(filled, '#') + std::string(settings_.bar_width - filled, '-') + "] ";
+      std::snprintf(numbers, sizeof numbers, "%3d%%  ", percent);
+      text += numbers + count_text();
+    } else {
+      std::snprintf(numbers, sizeof numbers, " (%d%%)", percent);
+      text += count_text() + numbers;
+    }
+  } else {
+    text += count_text();
+  }
+  const std::string gap = terminal ? "  " : ", ";
+  if (finished_) {
+    return text + gap + (complete() ? "done in " : "stopped after ") + format_duration(elapsed);
+  }
+  text += gap + "elapsed " + format_duration(elapsed);
+  if (!known_total) return text;
+  double eta = -1.0;
+  if (count_frames_) {
+    if (f > 0.0 && elapsed > 0.0) eta = elapsed / f * (1.0 - f);
+  } else if (done_ > 0 && elapsed > 0.0) {
+    eta = elapsed / double(done_) * double(std::max(0LL, total_ - done_));
+  }
+  return text + gap + "ETA " + (eta >= 0.0 ? format_duration(eta) : std::string("--:--"));
+}
+
+void ProgressBar::print(double now) {
+  const std::string text = status_text(now - start_);
   if (settings_.is_terminal) {
     *out_ << '\r' << text << "\x1b[K" << std::flush;  // ESC[K clears what a longer line left
   } else {
@@ -85,19 +117,30 @@ void ProgressBar::print(long long done, double now) {
   last_print_ = now;
 }
 
-void ProgressBar::update(long long done) {
-  if (finished_) return;
-  done_ = done;
+void ProgressBar::maybe_print() {
   const double now = settings_.clock();
   const double interval = settings_.is_terminal ? settings_.redraw_interval_s : settings_.line_interval_s;
   const bool first_draw = settings_.is_terminal && !printed_;
-  if (first_draw || now - last_print_ >= interval) print(done, now);
+  if (first_draw || now - last_print_ >= interval) print(now);
+}
+
+void ProgressBar::update(long long done) {
+  if (finished_) return;
+  done_ = done;
+  maybe_print();
+}
+
+void ProgressBar::update_frames(long long frames, double time) {
+  if (finished_) return;
+  frames_ = frames;
+  time_ = time;
+  maybe_print();
 }
 
 void ProgressBar::finish() {
   if (finished_) return;
   finished_ = true;
-  print(done_, settings_.clock());
+  print(settings_.clock());
   if (settings_.is_terminal) *out_ << '\n' << std::flush;
 }
 

@@ -371,3 +371,21 @@ TEST_F(Cli, FramesLimitReportsStopped) {
   EXPECT_NEAR(stopped["frames"][3]["time"].get<double>(), 3.0 / 300.0, 1e-12);
   EXPECT_NEAR(stopped["frames"][4]["time"].get<double>(), 0.02, 1e-12);
 }
+
+// The progress line counts video frames and simulated time, ffmpeg-like.
+TEST_F(Cli, ProgressShowsFramesAndSimulatedTime) {
+  const std::string scene = write_scene("fall.json", falling_scene(0.5));
+  Result r = run("render " + scene + " --out " + (dir_ / "a").string() + " --no-mp4 --stills 1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("render: frame=  16/16 time=0.500s (100%), done in "), std::string::npos)
+      << r.err;
+  r = run("run " + scene + " --out " + (dir_ / "b").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("simulate: frame=  16/16 time=0.500s (100%), done in "), std::string::npos)
+      << r.err;
+  r = run("render " + scene + " --out " + (dir_ / "c").string() + " --no-mp4 --stills 1 --frames 5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Frame 4 is at 0.133 s, inside the step that ends at 0.136 s, where the run stops.
+  EXPECT_NE(r.err.find("render: frame=   5/5 time=0.136s (100%), done in "), std::string::npos)
+      << r.err;
+}

@@ -90,6 +90,42 @@ TEST(ProgressBar, UnknownTotalShowsCountOnly) {
   EXPECT_EQ(out.str(), "frames: 7, elapsed 0:02\n");
 }
 
+// Counting video frames, the line shows ffmpeg's "frame=" and the simulated time; the bar,
+// percentage and ETA follow the simulated time up to the last frame's.
+TEST(ProgressBar, CountsFramesAndSimulatedTime) {
+  FakeClock clock;
+  std::ostringstream out;
+  ProgressBar::Settings settings;
+  settings.is_terminal = true;
+  settings.bar_width = 10;
+  settings.clock = clock.function();
+  ProgressBar bar("render", 75000, out, settings);
+  bar.count_frames(121, 4.0);  // 30 fps over 4 s
+  bar.update_frames(1, 0.0);
+  EXPECT_EQ(out.str(), "\rrender [----------]   0%  frame=   1/121 time=0.000s  elapsed 0:00  ETA --:--\x1b[K");
+  out.str("");
+  clock.now += 10;
+  bar.update_frames(31, 1.0);  // a quarter of the simulated time in 10 s
+  EXPECT_EQ(out.str(), "\rrender [##--------]  25%  frame=  31/121 time=1.000s  elapsed 0:10  ETA 0:30\x1b[K");
+  out.str("");
+  clock.now += 30;
+  bar.update_frames(121, 4.0);
+  bar.finish();
+  EXPECT_EQ(out.str(),
+            "\rrender [##########] 100%  frame= 121/121 time=4.000s  elapsed 0:40  ETA 0:00\x1b[K"
+            "\rrender [##########] 100%  frame= 121/121 time=4.000s  done in 0:40\x1b[K\n");
+
+  std::ostringstream log;
+  ProgressBar stopped("simulate", 300, log, log_settings(clock, 5.0));
+  stopped.count_frames(16, 0.5);
+  clock.now += 6;
+  stopped.update_frames(8, 0.25);
+  stopped.finish();
+  EXPECT_EQ(log.str(),
+            "simulate: frame=   8/16 time=0.250s (50%), elapsed 0:06, ETA 0:06\n"
+            "simulate: frame=   8/16 time=0.250s (50%), stopped after 0:06\n");
+}
+
 TEST(ProgressBar, FormatsDurations) {
   EXPECT_EQ(ProgressBar::format_duration(0.4), "0:00");
   EXPECT_EQ(ProgressBar::format_duration(65), "1:05");
