@@ -1,5 +1,6 @@
 # Two commands do everything on a fresh Debian 12 machine:
 #   make demo   install what is missing, build Release, render the default scene into out/
+#               (replacing the files of an earlier `make demo`)
 #   make test   install what is missing, build, run every test with CTest
 BUILD ?= build
 JOBS ?= $(shell nproc)
@@ -17,7 +18,7 @@ build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
 demo: build
-	./$(BUILD)/tissu render scenes/demo.json --out out --stills 4
+	./$(BUILD)/tissu render scenes/demo.json --out out --stills 4 --overwrite
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

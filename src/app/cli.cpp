@@ -15,9 +15,11 @@ namespace {
 
 const char* kRunHelp =
     "usage: tissu run SCENE.json [--out DIR] [--set KEY=VALUE]... [--obj-every N]\n"
-    "                 [--threads N] [--report FILE] [--check] [--quiet]\n"
+    "                 [--threads N] [--report FILE] [--check] [-y] [--quiet]\n"
     "Simulates a scene and writes DIR/report.json (and OBJ snapshots on request).\n"
     "  --out DIR          output directory (default out/<scene name>)\n"
+    "  -y, --overwrite    replace the outputs of an earlier run (report, OBJ snapshots);\n"
+    "                     without it, a run refuses to write over them\n"
     "  --set KEY=VALUE    override a scene value by dotted path, e.g. --set dt=1e-4,\n"
     "                     --set cloth.material.density=0.2; VALUE is JSON if it parses\n"
     "  --obj-every N      write DIR/obj/frame_NNNNNN.obj every N steps (and final.obj)\n"
@@ -34,13 +36,16 @@ const char* kRunHelp =
 const char* kRenderHelp =
     "usage: tissu render SCENE.json [--out DIR] [--set KEY=VALUE]... [--png] [--no-mp4]\n"
     "                    [--frames N] [--stills N] [--obj-every N] [--threads N]\n"
-    "                    [--report FILE] [--check] [--quiet]\n"
+    "                    [--report FILE] [--check] [-y] [--quiet]\n"
     "Simulates a scene, renders every frame off screen and writes DIR/<name>.mp4\n"
     "(H.264, yuv420p, fps and slow motion from the scene's render block).\n"
     "  --png              also write DIR/png/frame_NNNNNN.png for every frame\n"
     "  --no-mp4           do not write the MP4\n"
-    "  --frames N         stop after N frames\n"
+    "  --frames N         stop after N frames (report status: stopped)\n"
     "  --stills N         write N PNG stills spread over the run to DIR/stills/\n"
+    "  -y, --overwrite    replace the outputs of an earlier run (video, PNG frames and\n"
+    "                     stills, report, OBJ snapshots); without it, a run refuses to\n"
+    "                     write over them\n"
     "  (other options as for tissu run)\n"
     "Exit codes: 0 ok, 1 output error, 2 bad input, 3 diverged, 4 --check found\n"
     "crossings, 130 interrupted.\n";
@@ -110,6 +115,8 @@ bool parse_scene_command(const std::vector<std::string>& args, bool render,
           out.quiet = true;
         } else if (a == "--check") {
           out.check = true;
+        } else if (a == "-y" || a == "--overwrite") {
+          out.overwrite = true;
         } else if (render && a == "--png") {
           out.png = true;
         } else if (render && a == "--no-mp4") {

@@ -36,6 +36,7 @@ struct SceneCommandOptions {
   int threads = 0;  // simulation threads; 0 = the processors available
   bool quiet = false;
   bool check = false;  // exact crossing check of every recorded frame
+  bool overwrite = false;  // -y: replace an earlier run's outputs (app/earlier_outputs.h)
   // render-only options
   bool png = false;
   bool mp4 = true;

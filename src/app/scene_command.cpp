@@ -6,6 +6,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/earlier_outputs.h"
 #include "app/render_sink.h"
 #include "app/report.h"
 #include "app/run_loop.h"
@@ -107,21 +108,26 @@ int run_scene(const std::vector<std::string>& args, bool render) {
   // Output locations are checked before anything is written; if one of them cannot be
   // created (or the renderer cannot start), the directories made so far are removed again.
   // Named output files that are not regular files (devices, pipes, directories, symbolic
-  // links) are refused before the run, and before anything is created.
+  // links) are refused before the run, and before anything is created; so are an earlier
+  // run's outputs, unless -y: then they are removed once the renderer has started.
   check_output_target(options.report_path);
   if (!outputs.mp4_path.empty()) check_output_target(outputs.mp4_path);
+  if (options.obj_every > 0) {
+    run.obj_every = options.obj_every;
+    run.obj_dir = (fs::path(options.out_dir) / "obj").string();
+  }
+  const EarlierOutputs earlier({options.report_path, outputs.mp4_path, outputs.png_dir,
+                                outputs.stills_dir, run.obj_dir});
+  if (!options.overwrite) earlier.refuse();
   OutputDirs dirs;
   try {
     dirs.prepare(options.out_dir);
     dirs.prepare(parent_dir(options.report_path));
-    if (options.obj_every > 0) {
-      run.obj_every = options.obj_every;
-      run.obj_dir = (fs::path(options.out_dir) / "obj").string();
-      dirs.prepare(run.obj_dir);
-    }
+    if (!run.obj_dir.empty()) dirs.prepare(run.obj_dir);
     if (!outputs.png_dir.empty()) dirs.prepare(outputs.png_dir);
     if (!outputs.stills_dir.empty()) dirs.prepare(outputs.stills_dir);
     if (render) sink = std::make_unique<RenderSink>(settings, outputs);
+    earlier.remove();
   } catch (...) {
     sink.reset();
     dirs.remove_created_if_empty();

@@ -389,3 +389,74 @@ TEST_F(Cli, ProgressShowsFramesAndSimulatedTime) {
   EXPECT_NE(r.err.find("render: frame=   5/5 time=0.136s (100%), done in "), std::string::npos)
       << r.err;
 }
+
+// A second run into the same outputs is refused (ffmpeg's convention), in one line that
+// names the outputs and the option that replaces them; the earlier run's files stay.
+TEST_F(Cli, ExistingOutputsAreRefusedWithoutOverwrite) {
+  const std::string scene = write_scene("fall.json", falling_scene(0.5));
+  const fs::path out = dir_ / "out";
+  const std::string render = "render " + scene + " --out " + out.string() + " --quiet";
+  ASSERT_EQ(run(render + " --png --no-mp4").exit_code, 0);
+  const std::string report = read_text(out / "report.json");
+
+  Result r = run(render + " --png --no-mp4");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err, "tissu: " + (out / "png").string() +
+                       ": holds frames of an earlier run (16 frame_*.png); use -y (--overwrite)"
+                       " to replace them\n");
+  EXPECT_EQ(names_in(out / "png").size(), 16u);
+  EXPECT_EQ(read_text(out / "report.json"), report);
+
+  // The report, and the video, are outputs of their own.
+  r = run(render + " --no-mp4");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err, "tissu: " + (out / "report.json").string() +
+                       ": already exists; use -y (--overwrite) to replace it\n");
+  r = run("run " + scene + " --out " + out.string() + " --quiet");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  ASSERT_EQ(run(render + " --report " + (dir_ / "r.json").string()).exit_code, 0);
+  r = run(render + " --report " + (dir_ / "r2.json").string());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err, "tissu: " + (out / "fall.mp4").string() +
+                       ": already exists; use -y (--overwrite) to replace it\n");
+  EXPECT_FALSE(fs::exists(dir_ / "r2.json"));
+}
+
+// With -y (--overwrite) a shorter run replaces the earlier run's frames, stills, video and
+// report instead of mixing its frames with theirs; other files are left alone.
+TEST_F(Cli, OverwriteRemovesTheEarlierRunsFramesOnly) {
+  const fs::path out = dir_ / "out";
+  const std::string long_scene = write_scene("fall.json", falling_scene(0.5));
+  ASSERT_EQ(run("render " + long_scene + " --out " + out.string() +
+                " --png --stills 3 --obj-every 10 --quiet")
+                .exit_code,
+            0);
+  const std::string first_video = read_text(out / "fall.mp4");
+  std::ofstream(out / "notes.txt") << "mine";
+  std::ofstream(out / "other.mp4") << "mine";
+  std::ofstream(out / "png" / "frame_a.png") << "mine";
+  std::ofstream(out / "stills" / "cover.png") << "mine";
+
+  const std::string short_scene = write_scene("short.json", falling_scene(0.2));
+  for (const char* option : {"-y", "--overwrite"}) {
+    const Result r = run("render " + short_scene + " --out " + out.string() +
+                         " --png --stills 2 --obj-every 20 --quiet " + option);
+    ASSERT_EQ(r.exit_code, 0) << option << ": " << r.err;
+    std::vector<std::string> png = numbered_pngs({0, 1, 2, 3, 4, 5, 6});
+    png.push_back("frame_a.png");
+    EXPECT_EQ(names_in(out / "png"), png) << option;
+    std::vector<std::string> stills = numbered_pngs({3, 6});
+    stills.insert(stills.begin(), "cover.png");
+    EXPECT_EQ(names_in(out / "stills"), stills) << option;
+    EXPECT_EQ(names_in(out / "obj"),
+              (std::vector<std::string>{"final.obj", "frame_000000.obj", "frame_000020.obj",
+                                        "frame_000040.obj"}))
+        << option;
+    EXPECT_EQ(read_json(out / "report.json")["frames"].size(), 7u) << option;
+    EXPECT_EQ(read_text(out / "notes.txt"), "mine");
+  }
+  // The video of the scene is replaced; any other file is not this run's output.
+  EXPECT_NE(read_text(out / "fall.mp4"), first_video);
+  EXPECT_GT(read_text(out / "fall.mp4").size(), 0u);
+  EXPECT_EQ(read_text(out / "other.mp4"), "mine");
+}

@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <cmath>
+#include <iterator>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -84,6 +87,23 @@ TEST(meshObjWriter, FailedRenameRemovesTheTemporaryFile) {
                OutputError);
   EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
   EXPECT_TRUE(std::filesystem::exists(path + "/keep"));
+}
+
+// A named pipe at the path is refused, never replaced, and the temporary file goes.
+TEST(meshObjWriter, RefusesAPathThatIsNotARegularFile) {
+  test::TempDir dir;
+  const std::string path = dir.file("frame_000000.obj");
+  ASSERT_EQ(mkfifo(path.c_str(), 0644), 0);
+  try {
+    write_obj(path, {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {}, {Tri(0, 1, 2)});
+    ADD_FAILURE() << "no error";
+  } catch (const OutputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": cannot write: not a regular file (named pipe)");
+  }
+  EXPECT_TRUE(std::filesystem::is_fifo(path));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()),
+                          std::filesystem::directory_iterator()),
+            1);
 }
 
 // An existing file is replaced whole.

@@ -107,11 +107,15 @@ TEST_F(OutputFailure, SymlinksAreRefusedNeitherReplacedNorWrittenThrough) {
   EXPECT_TRUE(fs::is_symlink(work_ / "out" / "report.json"));
   EXPECT_TRUE(o.created.empty()) << "created " << o.created.front();
 
-  // A snapshot's path is checked when the snapshot is written, at the end of the run.
+  // An earlier run's snapshot is checked before the run, with or without --overwrite
+  // (which would otherwise remove it).
   fs::create_symlink("/dev/full", work_ / "out" / "obj" / "final.obj");
-  o = run({"run", scene(), "--out", "out", "--report", "r.json", "--obj-every", "1000",
-           "--quiet"});
-  EXPECT_REFUSED(o, "out/obj/final.obj", "symbolic link to a character device");
+  for (const char* overwrite : {"--quiet", "--overwrite"}) {
+    o = run({"run", scene(), "--out", "out", "--report", "r.json", "--obj-every", "1000",
+             "--quiet", overwrite});
+    EXPECT_REFUSED(o, "out/obj/final.obj", "symbolic link to a character device");
+    EXPECT_TRUE(o.created.empty()) << "created " << o.created.front();
+  }
   EXPECT_TRUE(fs::is_symlink(work_ / "out" / "obj" / "final.obj"));
   EXPECT_TRUE(is_char_device("/dev/full")) << "/dev/full must still be the device";
 }
@@ -167,7 +171,7 @@ TEST_F(OutputFailure, OutputPathsThatAreNotRegularFilesAreRefused) {
   EXPECT_TRUE(o.created.empty()) << "created " << o.created.front();
   EXPECT_TRUE(fs::is_fifo(work_ / "out" / "small.mp4"));
 
-  // A snapshot, refused when it is written (its temporary file removed).
+  // An earlier run's snapshot, refused before the run.
   ASSERT_EQ(mkfifo(path("out/obj/frame_000000.obj").c_str(), 0644), 0);
   o = run({"run", scene(), "--out", "out", "--report", "r.json", "--obj-every", "10", "--quiet"});
   EXPECT_REFUSED(o, "out/obj/frame_000000.obj", "named pipe");
