@@ -112,6 +112,7 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
     rows.push_back(row);
   }
   report["frames"] = rows;
+  if (result.end) report["end"] = frame_row(*result.end);
   return report;
 }
 

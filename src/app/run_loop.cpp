@@ -156,7 +156,10 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
   }
   // The report ends on the state the run ends on, also between frame times (not a frame
   // of the video).
-  if (!end_recorded && result.status != RunStatus::Diverged) record(state);
+  if (!end_recorded && result.status != RunStatus::Diverged) {
+    result.end = measure_frame(model, state);
+    last_frame_x = state.x;
+  }
   if (options.progress) progress.finish();
   if (!options.obj_dir.empty()) {
     const bool good = result.status != RunStatus::Diverged;

@@ -55,7 +55,10 @@ struct RunResult {
   RunStatus status = RunStatus::Ok;
   long long steps_done = 0;
   std::optional<Divergence> divergence;
-  std::vector<FrameStats> frames;
+  std::vector<FrameStats> frames;  // one per video frame
+  // The state the run ends on when it falls between frame times (after an interrupt, at
+  // --frames, or a duration that is not a whole number of frames); not a video frame.
+  std::optional<FrameStats> end;
   StageTimes times;
   int threads = 1;            // threads the steps used (force_threads of the request)
   int newton_iterations = 0;  // totals over the run (implicit integrators)
