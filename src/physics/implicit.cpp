@@ -750,6 +750,27 @@ const ImplicitReport* last_implicit_report(const Workspace& ws) {
 // then runs once more on that result. The impulses are the stage's own (outward from
 // obstacles, equal and opposite between layers), so the substep gains no momentum the
 // stage did not give.
+// Rounds of impulses a substep may take, and the stage correction (a fraction of the
+// contact thickness) below which its result stands.
+constexpr int kMaxKickRounds = 3;
+constexpr double kKickTolerance = 0.1;
+
+// The length contact corrections are measured against, m: the thinnest contact thickness
+// the scene declares, or a tenth of a typical edge when it declares none.
+double contact_length(const Model& model) {
+  double area = 0.0;
+  for (const TriangleRest& r : model.rest) area += r.area;
+  const int T = std::max(1, model.num_triangles());
+  double length = 0.1 * std::sqrt(4.0 / std::sqrt(3.0) * area / T);
+  for (const Obstacle& o : model.obstacles) {
+    if (o.thickness > 0.0) length = std::min(length, o.thickness);
+  }
+  if (model.self_collision && model.self_collision->thickness > 0.0) {
+    length = std::min(length, model.self_collision->thickness);
+  }
+  return length;
+}
+
 void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s, double h,
              double t, bool stage) {
   s.kicks.clear();
@@ -761,22 +782,25 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   const ContactSet contacts = s.contacts;
   method_step(model, state, ws, h, t);
   int newton = ws.newton_iterations, cg = ws.cg_iterations;
-  const Vec3List solved = state.v;
-  run_collision_stage(model, t, h, start.x, state, ws);
-  bool kicked = false;
   s.kicks.assign(model.num_vertices(), Vec3::Zero());
-  for (int i = 0; i < model.num_vertices(); ++i) {
-    if (model.pinned[i]) continue;
-    s.kicks[i] = state.v[i] - solved[i];
-    kicked = kicked || s.kicks[i] != Vec3::Zero();
-  }
-  if (kicked) {
+  // Each round solves with the impulses found so far; the stage's further corrections of
+  // that solve are added to them, until the stage has little left to correct.
+  for (int round = 0;; ++round) {
+    const Vec3List solved = state.v;
+    run_collision_stage(model, t, h, start.x, state, ws);
+    double largest = 0.0;  // m: the stage's largest change of a position
+    for (int i = 0; i < model.num_vertices(); ++i) {
+      if (model.pinned[i]) continue;
+      const Vec3 kick = state.v[i] - solved[i];
+      s.kicks[i] += kick;
+      largest = std::max(largest, h * kick.norm());
+    }
+    if (largest <= kKickTolerance * contact_length(model) || round == kMaxKickRounds) break;
     state = start;
     s.contacts = contacts;
     method_step(model, state, ws, h, t);
     newton += ws.newton_iterations;
     cg += ws.cg_iterations;
-    run_collision_stage(model, t, h, start.x, state, ws);
   }
   s.kicks.clear();
   ws.newton_iterations = newton;
