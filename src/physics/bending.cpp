@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -30,7 +31,7 @@ constexpr double kMaxAmplification = 10.0;
 // Candidate extra vertices considered for boundary / fallback / least-squares stencils
 // (nearest first).
 constexpr int kMaxCandidates = 12;
-static_assert(3 + kMaxCandidates <= BendingStencil::kMaxNodes, "stencil capacity");
+constexpr int kMaxFitNodes = 3 + kMaxCandidates;
 
 using RowMatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3List must be contiguous doubles");
@@ -40,7 +41,8 @@ inline double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y(
 // Second-derivative weights of one triangle for a given set of extra points.
 struct Fit {
   int count = 0;                                // 3 + number of extra points
-  double w[3][BendingStencil::kMaxNodes] = {};  // [uu, vv, uv][node], 1/m^2
+  double w[3][kMaxFitNodes] = {};  // [uu, vv, uv][node], 1/m^2
+  double g[2][kMaxFitNodes] = {};  // [u, v][node]: the patch's gradient at the centroid
   double conditioning = 0.0;   // sigma_min / sigma_max of M (0 with fewer than 3 points)
   double amplification = 0.0;  // |w|_F * l^2, dimensionless
   double truncation = 0.0;     // sum |w| |q - centroid|^3 / l: bound on the O(h) error
@@ -81,6 +83,10 @@ Fit fit_hessian(const Vec2 p[3], const std::vector<Vec2>& q) {
   const int m = static_cast<int>(q.size());
   Fit fit;
   fit.count = 3 + m;
+  for (int i = 0; i < 3; ++i) {
+    fit.g[0][i] = g[i].x();
+    fit.g[1][i] = g[i].y();
+  }
   if (m == 0) return fit;
   // At most 3 x 3: fixed-capacity storage.
   using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor, 3, 3>;
@@ -111,9 +117,18 @@ Fit fit_hessian(const Vec2 p[3], const std::vector<Vec2>& q) {
   // Weights: extra point j gets c_j = sum_k Hess(b_k) P_kj, corner i gets
   // -sum_j c_j phi_i(q_j) (the affine interpolant subtracted from r).
   const Vec2 centroid = (p[0] + p[1] + p[2]) / 3.0;
-  double r3[BendingStencil::kMaxNodes];
+  double r3[kMaxFitNodes];
   for (int n = 0; n < fit.count; ++n) {
     r3[n] = std::pow(((n < 3 ? p[n] : q[n - 3]) - centroid).norm(), 3);
+  }
+  // Gradients of the bubbles at the centroid (phi = 1/3 there), 1/m.
+  for (int c = 0; c < 2; ++c) {
+    for (int j = 0; j < m; ++j) {
+      double w = 0.0;
+      for (int k = 0; k < 3; ++k) w += (g[(k + 1) % 3][c] + g[(k + 2) % 3][c]) / 3.0 * P(k, j);
+      fit.g[c][3 + j] = w;
+      for (int i = 0; i < 3; ++i) fit.g[c][i] -= w * Phi(j, i);
+    }
   }
   double sum_sq = 0.0, sum_r3 = 0.0;
   for (int c = 0; c < 3; ++c) {
@@ -145,7 +160,7 @@ Fit fit_least_squares(const Vec2 p[3], const std::vector<Vec2>& q) {
   const double ell = std::sqrt(l2);
   const Vec2 centroid = (p[0] + p[1] + p[2]) / 3.0;
   // Monomials 1, x, y, x^2/2, y^2/2, xy in coordinates scaled by ell.
-  Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor, BendingStencil::kMaxNodes, 6> A(n, 6);
+  Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor, kMaxFitNodes, 6> A(n, 6);
   for (int j = 0; j < n; ++j) {
     const Vec2 z = ((j < 3 ? p[j] : q[j - 3]) - centroid) / ell;
     A.row(j) << 1.0, z.x(), z.y(), 0.5 * z.x() * z.x(), 0.5 * z.y() * z.y(), z.x() * z.y();
@@ -164,6 +179,7 @@ Fit fit_least_squares(const Vec2 p[3], const std::vector<Vec2>& q) {
   double sum_sq = 0.0, sum_r3 = 0.0;
   for (int j = 0; j < n; ++j) {
     const double r3 = std::pow(((j < 3 ? p[j] : q[j - 3]) - centroid).norm(), 3);
+    for (int c = 0; c < 2; ++c) fit.g[c][j] = N_inv.row(1 + c).dot(A.row(j)) / ell;
     for (int c = 0; c < 3; ++c) {
       fit.w[c][j] = N_inv.row(3 + c).dot(A.row(j)) / l2;
       sum_sq += fit.w[c][j] * fit.w[c][j];
@@ -506,10 +522,156 @@ bool kernel_is_affine(const TriList& triangles, const Vec2List& uv, const MeshAd
   return true;
 }
 
+// Sparse weights over vertices: value = sum_n weight[n] x[vertex[n]].
+struct Weights {
+  std::vector<int> vertex;
+  std::vector<double> weight;
+  void add(int v, double w) {
+    for (size_t n = 0; n < vertex.size(); ++n) {
+      if (vertex[n] == v) {
+        weight[n] += w;
+        return;
+      }
+    }
+    vertex.push_back(v);
+    weight.push_back(w);
+  }
+};
+
+// The triangles' Hessians in flux form: H_T = 1/A_T sum_e l_e G_e n_e^T (symmetric part),
+// over T's edges e of length l_e and outward normal n_e, G_e being the mean gradient of the
+// patches of e's triangles at e's midpoint. Exact for quadratic fields (each patch is, and
+// the midpoint rule integrates the linear gradient of a quadratic exactly over an edge), and
+// the Hessians of neighbouring triangles share their edge gradients, so that summed over
+// any region, A_T H_T leaves only the flux through the region's boundary: no pattern of
+// vertex values (a checkerboard on a grid) can pass for a curvature the size of the region.
+std::vector<BendingStencil> flux_hessians(const TriList& triangles, const Vec2List& uv,
+                                          const MeshAdjacency& adj,
+                                          const std::vector<std::vector<int>>& extras,
+                                          const std::vector<Fit>& fits,
+                                          const std::vector<uint8_t>& own_hessian,
+                                          const std::vector<uint8_t>& clamped,
+                                          int* patch_hessians) {
+  const int T = static_cast<int>(triangles.size());
+  auto node = [&](int t, int n) { return n < 3 ? triangles[t][n] : extras[t][n - 3]; };
+  // The patch's own (constant) Hessian as the triangle's stencil.
+  auto patch_stencil = [&](int t, double area) {
+    BendingStencil st;
+    st.area = area;
+    for (int n = 0; n < fits[t].count; ++n) {
+      st.vertex.push_back(node(t, n));
+      st.w_uu.push_back(fits[t].w[0][n]);
+      st.w_vv.push_back(fits[t].w[1][n]);
+      st.w_uv.push_back(fits[t].w[2][n]);
+    }
+    return st;
+  };
+  // Gradient weights (u and v components) of t's patch at point m.
+  auto patch_gradient = [&](int t, const Vec2& m, Weights grad[2]) {
+    const Tri& tri = triangles[t];
+    const Vec2 d = m - (uv[tri[0]] + uv[tri[1]] + uv[tri[2]]) / 3.0;
+    const Fit& fit = fits[t];
+    for (int n = 0; n < fit.count; ++n) {
+      const double gu = fit.g[0][n] + fit.w[0][n] * d.x() + fit.w[2][n] * d.y();
+      const double gv = fit.g[1][n] + fit.w[2][n] * d.x() + fit.w[1][n] * d.y();
+      grad[0].add(node(t, n), gu);
+      grad[1].add(node(t, n), gv);
+    }
+  };
+  // Mean patch gradient at each edge's midpoint.
+  std::map<std::pair<int, int>, std::array<Weights, 2>> edge_gradient;
+  for (const auto& [edge, tris] : adj.edge_triangles) {
+    const Vec2 m = 0.5 * (uv[edge.first] + uv[edge.second]);
+    std::array<Weights, 2> sum;
+    // Beside a clamped triangle the gradient is the clamp's (its linear interpolant's).
+    int count = 0;
+    for (int t : tris) {
+      if (!clamped[t]) continue;
+      const Tri& tri = triangles[t];
+      const double d = cross2(uv[tri[1]] - uv[tri[0]], uv[tri[2]] - uv[tri[0]]);
+      for (int i = 0; i < 3; ++i) {  // gradient of the linear interpolant, 1/m
+        const Vec2& a = uv[tri[(i + 1) % 3]];
+        const Vec2& b = uv[tri[(i + 2) % 3]];
+        sum[0].add(tri[i], (a.y() - b.y()) / d);
+        sum[1].add(tri[i], (b.x() - a.x()) / d);
+      }
+      ++count;
+    }
+    if (count == 0) {
+      for (int t : tris) patch_gradient(t, m, sum.data());
+      count = static_cast<int>(tris.size());
+    }
+    for (auto& component : sum) {
+      for (double& w : component.weight) w /= static_cast<double>(count);
+    }
+    edge_gradient.emplace(edge, std::move(sum));
+  }
+  std::vector<BendingStencil> stencils(T);
+  for (int t = 0; t < T; ++t) {
+    const Tri& tri = triangles[t];
+    BendingStencil& st = stencils[t];
+    st.area = 0.5 * std::abs(cross2(uv[tri[1]] - uv[tri[0]], uv[tri[2]] - uv[tri[0]]));
+    if (clamped[t]) continue;  // held rigid: no bending
+    if (own_hessian[t]) {
+      *patch_hessians += 1;
+      st = patch_stencil(t, st.area);
+      continue;
+    }
+    const double area =
+        0.5 * std::abs(cross2(uv[tri[1]] - uv[tri[0]], uv[tri[2]] - uv[tri[0]]));
+    const double orientation = cross2(uv[tri[1]] - uv[tri[0]], uv[tri[2]] - uv[tri[0]]) > 0 ? 1 : -1;
+    Weights h[3];  // uu, vv, uv
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
+      const Vec2 e = uv[b] - uv[a];
+      const Vec2 ln = orientation * Vec2(e.y(), -e.x()) / area;  // l_e n_e / A_T, 1/m
+      const auto& G = edge_gradient.at({std::min(a, b), std::max(a, b)});
+      for (size_t n = 0; n < G[0].vertex.size(); ++n) {
+        h[0].add(G[0].vertex[n], ln.x() * G[0].weight[n]);
+        h[2].add(G[0].vertex[n], 0.5 * ln.y() * G[0].weight[n]);
+      }
+      for (size_t n = 0; n < G[1].vertex.size(); ++n) {
+        h[1].add(G[1].vertex[n], ln.y() * G[1].weight[n]);
+        h[2].add(G[1].vertex[n], 0.5 * ln.x() * G[1].weight[n]);
+      }
+    }
+    Weights all;
+    for (const Weights& c : h) {
+      for (int v : c.vertex) all.add(v, 0.0);
+    }
+    st.vertex = all.vertex;
+    auto dense = [&](const Weights& c) {
+      std::vector<double> w(st.vertex.size(), 0.0);
+      for (size_t n = 0; n < c.vertex.size(); ++n) {
+        const size_t i = std::find(st.vertex.begin(), st.vertex.end(), c.vertex[n]) - st.vertex.begin();
+        w[i] = c.weight[n];
+      }
+      return w;
+    };
+    st.w_uu = dense(h[0]);
+    st.w_vv = dense(h[1]);
+    st.w_uv = dense(h[2]);
+    const Vec2 p0 = uv[tri[0]], p1 = uv[tri[1]], p2 = uv[tri[2]];
+    const double l2 = ((p1 - p0).squaredNorm() + (p2 - p1).squaredNorm() + (p0 - p2).squaredNorm()) / 3.0;
+    double sum_sq = 0.0;
+    for (size_t n = 0; n < st.vertex.size(); ++n) {
+      sum_sq += st.w_uu[n] * st.w_uu[n] + st.w_vv[n] * st.w_vv[n] + st.w_uv[n] * st.w_uv[n];
+    }
+    // Cap triangles: 1/A_T amplifies the differences of the edge gradients (|w| l^2 of
+    // 3000 measured on the project's sliver mesh, 5-9 elsewhere); their own patch is better.
+    const double amplification = l2 * std::sqrt(sum_sq);
+    if (amplification > kMaxAmplification && amplification > fits[t].amplification) {
+      *patch_hessians += 1;
+      st = patch_stencil(t, st.area);
+    }
+  }
+  return stencils;
+}
+
 }  // namespace
 
 BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv, double bending_weft,
-                           double bending_warp) {
+                           double bending_warp, const std::vector<uint8_t>& pinned) {
   if (!(bending_weft >= 0.0)) {
     throw InputError("bending: weft flexural rigidity must be >= 0 N*m, got " +
                      std::to_string(bending_weft));
@@ -626,31 +788,29 @@ BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv, do
     model.least_squares_stencils += least_squares[t];
   }
 
-  // Per-triangle stencils.
-  model.stencils.resize(T);
-  for (int t = 0; t < T; ++t) {
-    Vec2 p[3];
-    corners(t, p);
-    const Fit& fit = fits[t];
-    BendingStencil& st = model.stencils[t];
-    st.count = fit.count;
-    st.area = 0.5 * std::abs(cross2(p[1] - p[0], p[2] - p[0]));
-    for (int n = 0; n < fit.count; ++n) {
-      st.vertex[n] = n < 3 ? triangles[t][n] : extras[t][n - 3];
-      st.w_uu[n] = fit.w[0][n];
-      st.w_vv[n] = fit.w[1][n];
-      st.w_uv[n] = fit.w[2][n];
+  // Each triangle's patch gives a gradient everywhere: at its centroid (fit.g) plus its
+  // constant Hessian (fit.w) times the offset. The gradient at an edge's midpoint is the
+  // mean of the patches of the triangles sharing the edge; the triangle's Hessian is then
+  // the flux of these edge gradients through its boundary (see flux_hessians).
+  std::vector<uint8_t> clamped(T, 0);
+  if (!pinned.empty()) {
+    for (int t = 0; t < T; ++t) {
+      clamped[t] = pinned[triangles[t][0]] && pinned[triangles[t][1]] && pinned[triangles[t][2]];
+      model.clamped_triangles += clamped[t];
     }
-    model.max_amplification = std::max(model.max_amplification, fit.amplification);
   }
+  model.stencils = flux_hessians(triangles, rest_uv, adj, extras, fits, least_squares, clamped,
+                                 &model.patch_hessians);
+  for (const Fit& fit : fits) model.max_amplification = std::max(model.max_amplification, fit.amplification);
 
   // Assemble Q = sum_T A_T (D11 w_uu w_uu^T + D22 w_vv w_vv^T + 4 D66 w_uv w_uv^T).
   const double c_uu = model.bending_weft, c_vv = model.bending_warp, c_uv = 4.0 * model.twist;
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(static_cast<size_t>(T) * 40);
   for (const BendingStencil& st : model.stencils) {
-    for (int a = 0; a < st.count; ++a) {
-      for (int b = 0; b < st.count; ++b) {
+    const int count = static_cast<int>(st.vertex.size());
+    for (int a = 0; a < count; ++a) {
+      for (int b = 0; b < count; ++b) {
         const double value =
             st.area * (c_uu * st.w_uu[a] * st.w_uu[b] + c_vv * st.w_vv[a] * st.w_vv[b] +
                        c_uv * st.w_uv[a] * st.w_uv[b]);

@@ -40,13 +40,11 @@ namespace tissu {
 // sum_j w_uu[j] x[vertex[j]] (exact when x is a quadratic function of (u, v), zero when it
 // is affine); the same for vv and uv.
 struct BendingStencil {
-  static constexpr int kMaxNodes = 15;
-  int count = 0;                // nodes used: 3 triangle corners + 3 extra vertices (up to 12)
-  int vertex[kMaxNodes] = {};   // vertex ids; [0..2] are the triangle's corners
-  double w_uu[kMaxNodes] = {};  // 1/m^2
-  double w_vv[kMaxNodes] = {};  // 1/m^2
-  double w_uv[kMaxNodes] = {};  // 1/m^2
-  double area = 0.0;            // rest area of the triangle, m^2
+  std::vector<int> vertex;    // vertex ids
+  std::vector<double> w_uu;   // 1/m^2, one per vertex
+  std::vector<double> w_vv;   // 1/m^2
+  std::vector<double> w_uv;   // 1/m^2
+  double area = 0.0;          // rest area of the triangle, m^2
 };
 
 struct BendingModel {
@@ -70,6 +68,11 @@ struct BendingModel {
   // Needle or cap triangles whose interpolating patch still had large weights: a
   // least-squares quadratic over up to 12 nearby vertices was used instead.
   int least_squares_stencils = 0;
+  // Triangles whose Hessian is their own patch's rather than the flux of the edge
+  // gradients: least-squares stencils and caps (see docs/bending.md).
+  int patch_hessians = 0;
+  // Triangles whose three corners are pinned: held rigid by a clamp, no bending energy.
+  int clamped_triangles = 0;
   double max_amplification = 0.0;  // max over triangles of |w|_F l^2 (l^2: mean squared edge)
 };
 
@@ -79,7 +82,7 @@ struct BendingModel {
 // `bending_weft` (isotropic). Throws InputError for a vertex id
 // out of range, a degenerate rest triangle, or a negative `bending_weft`.
 BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv, double bending_weft,
-                           double bending_warp);
+                           double bending_warp, const std::vector<uint8_t>& pinned = {});
 
 // Bending energy at positions x (V), J.
 double bending_energy(const BendingModel& model, const Vec3List& x);

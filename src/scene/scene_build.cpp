@@ -174,7 +174,8 @@ Simulation build(const Scene& scene) {
   precompute_rest(model);
   if (model.material.bending > 0.0) {
     model.bending = std::make_shared<const BendingModel>(build_bending(
-        model.triangles, model.rest_uv, model.material.bending, model.material.bending_warp));
+        model.triangles, model.rest_uv, model.material.bending, model.material.bending_warp,
+        model.pinned));
   }
   state.v.assign(state.x.size(), scene.initial_velocity);
   for (size_t i = 0; i < state.v.size(); ++i) {

@@ -298,7 +298,8 @@ EdgePull pull_over_edge(Integrator integrator, double dt, double seconds) {
   EdgePull r;
   const int steps = static_cast<int>(std::lround(seconds / dt));
   for (int k = 0; k < steps; ++k) {
-    EXPECT_FALSE(step(m, st, ws).has_value()) << k;
+    const auto divergence = step(m, st, ws);
+    EXPECT_FALSE(divergence.has_value()) << k << ": " << (divergence ? divergence->reason : "");
     double cx = 0;
     for (const Vec3& p : st.x) {
       cx += p.x() / st.x.size();
