@@ -79,6 +79,9 @@ struct Scene {
   std::optional<SelfCollision> self_collision;
 
   Json render;  // the raw `render` block (null when absent), validated by the renderer
+  // The document after overrides, presets expanded and paths absolute (set by load_scene;
+  // null otherwise): scene/resolved_scene.h.
+  Json resolved;
 };
 
 // Reads a scene file (JSON with // comments). Syntax errors name line and column.

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "scene/resolved_scene.h"
 #include "scene/scene.h"
 
 namespace tissu {
@@ -187,6 +188,7 @@ Scene load_scene(const std::string& file, const std::vector<std::string>& overri
     throw named_scene_error(file, overrides, e.what());
   }
   scene.overrides = overrides;
+  scene.resolved = resolved_scene(doc, scene);
   return scene;
 }
 
