@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "app/command_line.h"
 #include "app/commands.h"
 #include "core/error.h"
 #include "render/render_error.h"
@@ -26,6 +27,7 @@ const char* kHelp =
 
 int main(int argc, char** argv) {
   using namespace tissu;
+  set_command_line(std::vector<std::string>(argv, argv + argc));
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "help" || args[0] == "--help" || args[0] == "-h") {
     std::cout << kHelp;

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 
+#include "app/command_line.h"
+#include "app/version.h"
 #include "core/error.h"
 #include "physics/cloth_contact.h"
 #include "video/partial_file.h"
@@ -41,10 +43,17 @@ std::string end_message(const RunResult& result) {
 
 }  // namespace
 
+nlohmann::ordered_json tissu_identity() {
+  return {{"version", TISSU_VERSION}, {"git_commit", TISSU_GIT_COMMIT}};
+}
+
 nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const RunResult& result) {
   nlohmann::ordered_json report;
   report["scene"] = scene.name;
   report["scene_file"] = scene.file;
+  report["tissu"] = tissu_identity();
+  report["command_line"] = command_line();
+  report["overrides"] = scene.overrides;
   report["vertices"] = model.num_vertices();
   report["triangles"] = model.num_triangles();
   report["integrator"] = integrator_name(model.integrator);
@@ -102,7 +111,10 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
     report["check"] = check;
   }
   report["units"] = {{"time", "s"}, {"energy", "J"}, {"speed", "m/s"},
-                     {"strain", "Green strain"}, {"clearance", "m"}};
+                     {"strain", "Green strain"}, {"clearance", "m"},
+                     {"resolved_scene", "SI, as the scene format (docs/scenes.md)"}};
+  // The scene as run: rerunning it alone gives the same frames.
+  report["resolved_scene"] = scene.resolved;
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (size_t i = 0; i < result.frames.size(); ++i) {
     nlohmann::ordered_json row = frame_row(result.frames[i]);

@@ -8,6 +8,9 @@
 
 namespace tissu {
 
+// {"version": project() VERSION, "git_commit": the commit configured from, or "unknown"}.
+nlohmann::ordered_json tissu_identity();
+
 nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const RunResult& result);
 
 // Writes `text` to `path` atomically (temporary file, then rename).

@@ -463,3 +463,49 @@ TEST_F(Cli, OverwriteRemovesTheEarlierRunsFramesOnly) {
   EXPECT_GT(read_text(out / "fall.mp4").size(), 0u);
   EXPECT_EQ(read_text(out / "other.mp4"), "mine");
 }
+
+// The report says which Tissu ran what: version and commit, the command line, the --set
+// overrides, and the scene as run, which alone reproduces the run.
+TEST_F(Cli, ReportHoldsWhatReproducesTheRun) {
+  const std::string scene = write_scene("s.json", small_scene());
+  const fs::path out = dir_ / "out";
+  const Result r = run("run " + scene + " --out " + out.string() +
+                       " --set steps=1050 --set cloth.material=cotton --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json report = read_json(out / "report.json");
+
+  EXPECT_EQ(report["tissu"]["version"], TISSU_PROJECT_VERSION);
+  const std::string commit = report["tissu"]["git_commit"];
+  EXPECT_TRUE(commit == "unknown" || (commit.size() == 40 &&
+              commit.find_first_not_of("0123456789abcdef") == std::string::npos))
+      << commit;
+  EXPECT_EQ(report["command_line"],
+            Json({TISSU_BINARY, "run", scene, "--out", out.string(), "--set", "steps=1050",
+                  "--set", "cloth.material=cotton", "--quiet"}));
+  EXPECT_EQ(report["overrides"], Json({"steps=1050", "cloth.material=cotton"}));
+
+  const Json& resolved = report["resolved_scene"];
+  EXPECT_EQ(resolved["steps"], 1050);
+  const Json& material = resolved["cloth"]["material"];
+  ASSERT_TRUE(material.is_object()) << material;
+  EXPECT_GT(material["density"].get<double>(), 0.0);
+  EXPECT_GT(material["stiffness"]["weft"].get<double>(), 0.0);
+
+  // The resolved scene, alone and elsewhere, runs to the same frames.
+  fs::create_directories(dir_ / "elsewhere");
+  const std::string again = write_scene("elsewhere/resolved.json", resolved);
+  const fs::path out2 = dir_ / "out2";
+  const Result r2 = run("run " + again + " --out " + out2.string() + " --quiet");
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  const Json report2 = read_json(out2 / "report.json");
+  EXPECT_EQ(report2["overrides"], Json::array());
+  ASSERT_GE(report["frames"].size(), 3u);
+  ASSERT_TRUE(report.contains("end") && report2.contains("end"));  // 0.105 s: between frames
+  ASSERT_EQ(report2["frames"].size(), report["frames"].size());
+  for (const char* energy : {"kinetic_energy", "elastic_energy", "potential_energy"}) {
+    for (size_t i = 0; i < report["frames"].size(); ++i) {
+      EXPECT_EQ(report2["frames"][i][energy], report["frames"][i][energy]) << energy << " " << i;
+    }
+    EXPECT_EQ(report2["end"][energy], report["end"][energy]) << energy;
+  }
+}
