@@ -7,7 +7,9 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/figure_report.h"
 #include "app/render_sink.h"
+#include "app/report.h"
 #include "core/error.h"
 #include "figure/figure.h"
 #include "physics/diagnostics.h"
@@ -20,14 +22,18 @@ namespace {
 namespace fs = std::filesystem;
 
 const char* kUsage =
-    "usage: tissu figure FIGURE.json... [--out FILE.png | --out-dir DIR] [--mp4-dir DIR] [--quiet]\n"
+    "usage: tissu figure FIGURE.json... [--out FILE.png | --out-dir DIR] [--mp4-dir DIR]\n"
+    "                    [--caption-times] [--quiet]\n"
     "Runs every panel of a figure file to its iteration, draws it, and writes one PNG with\n"
-    "the panels, a caption under each (T = wall time of the panel's simulation) and the\n"
-    "title. A panel that diverges shows its last good state and says where it diverged.\n"
+    "the panels, a caption under each and the title, and beside it FILE.report.json with\n"
+    "each panel's outcome and measured wall times. A panel that diverges shows its last\n"
+    "good state and says where it diverged. The PNG is the same bits on every run.\n"
     "  --out FILE.png   the image (one figure only; default out/figures/<figure>.png)\n"
     "  --out-dir DIR    directory of the images, named after the figure files\n"
     "                   (default out/figures)\n"
     "  --mp4-dir DIR    also write each panel's run as DIR/<figure>_panel<N>.mp4\n"
+    "  --caption-times  draw the measured wall time where a caption says {T} (else\n"
+    "                   \"see report\"); the image then differs from run to run\n"
     "  --quiet          no progress lines\n"
     "The figure format is described in docs/paper.md.\n"
     "Exit codes: 0 ok (also when panels diverge), 1 output error, 2 bad input.\n";
@@ -36,6 +42,7 @@ struct FigureOptions {
   std::vector<std::string> figures;
   std::string out_file, out_dir, mp4_dir;
   bool quiet = false;
+  bool caption_times = false;
 };
 
 bool parse_options(const std::vector<std::string>& args, FigureOptions& o) {
@@ -49,6 +56,8 @@ bool parse_options(const std::vector<std::string>& args, FigureOptions& o) {
           o.mp4_dir = value();
         } else if (a == "--quiet") {
           o.quiet = true;
+        } else if (a == "--caption-times") {
+          o.caption_times = true;
         } else if (a.rfind("-", 0) == 0) {
           return false;
         } else {
@@ -161,15 +170,18 @@ int command_figure(const std::vector<std::string>& args) {
     }
     FigureResult result;
     try {
-      result = render_figure(figure, scenes[f], videos.get(), progress);
+      result = render_figure(figure, scenes[f], videos.get(), progress, options.caption_times);
     } catch (...) {
       if (videos) videos->abort();
       throw;
     }
     write_png(outputs[f], result.image);
+    const std::string report = figure_report_path(outputs[f]);
+    write_text_file(report, make_figure_report(figure, result, outputs[f]).dump(1) + "\n");
     if (!options.quiet) {
       std::cerr << "tissu: figure: " << outputs[f] << " (" << result.image.width << " x "
                 << result.image.height << ")\n";
+      std::cerr << "tissu: report: " << report << "\n";
       if (videos) {
         for (const std::string& v : videos->written()) std::cerr << "tissu: video: " << v << "\n";
       }

@@ -13,7 +13,8 @@ std::vector<Scene> load_figure_scenes(const FigureSpec& figure) {
 }
 
 FigureResult render_figure(const FigureSpec& figure, const std::vector<Scene>& scenes,
-                           PanelObserver* observer, const PanelProgress& progress) {
+                           PanelObserver* observer, const PanelProgress& progress,
+                           bool caption_times) {
   FigureResult result;
   std::vector<Image> images;
   std::vector<std::string> captions;
@@ -40,7 +41,8 @@ FigureResult render_figure(const FigureSpec& figure, const std::vector<Scene>& s
     out.shown = run.sim.state.step;
     out.divergence = run.divergence;
     out.simulate_seconds = run.simulate_seconds;
-    out.caption = panel_caption(spec.caption, scene, run);
+    out.scene_file = spec.scene;
+    out.caption = panel_caption(spec.caption, scene, run, caption_times);
     captions.push_back(out.caption);
     if (progress) progress(i, out);
     result.panels.push_back(std::move(out));

@@ -32,6 +32,7 @@ struct PanelOutcome {
   double simulate_seconds = 0; // wall time of the simulation, s
   double render_seconds = 0;   // wall time of drawing the panel, s
   std::string caption;         // as drawn
+  std::string scene_file;      // the panel's scene file
 };
 
 struct FigureResult {
@@ -45,7 +46,10 @@ std::vector<Scene> load_figure_scenes(const FigureSpec& figure);
 // Progress callback: called after each panel with its outcome.
 using PanelProgress = std::function<void(size_t index, const PanelOutcome& outcome)>;
 
+// The image is the same bits on every run unless `caption_times` puts the measured wall
+// times ({T}) into the captions; PanelOutcome always holds them.
 FigureResult render_figure(const FigureSpec& figure, const std::vector<Scene>& scenes,
-                           PanelObserver* observer = nullptr, const PanelProgress& progress = {});
+                           PanelObserver* observer = nullptr, const PanelProgress& progress = {},
+                           bool caption_times = false);
 
 }  // namespace tissu

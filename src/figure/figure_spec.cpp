@@ -98,7 +98,8 @@ const std::vector<std::pair<std::string, std::string>>& caption_placeholders() {
       {"triangles", "triangle count"},
       {"vertices", "vertex count"},
       {"step", "iteration shown (the last good one when the run diverged)"},
-      {"T", "wall time measured for simulating the panel, e.g. \"1.234 s\""},
+      {"T", "wall time measured for simulating the panel, e.g. \"1.234 s\" (with "
+            "--caption-times; else \"see report\")"},
       {"t", "simulated time of the state shown, e.g. \"0.260 s\""},
       {"integrator", "integrator name"},
       {"material", "material preset name (or \"custom\")"},
@@ -133,7 +134,7 @@ std::string expand_caption(const std::string& text, const CaptionValues& v) {
         else if (name == "triangles") out += std::to_string(v.triangles);
         else if (name == "vertices") out += std::to_string(v.vertices);
         else if (name == "step") out += std::to_string(v.step);
-        else if (name == "T") out += format("%.3f s", v.wall_seconds);
+        else if (name == "T") out += v.wall_seconds ? format("%.3f s", *v.wall_seconds) : "see report";
         else if (name == "t") out += format("%.3f s", v.time);
         else if (name == "integrator") out += v.integrator;
         else if (name == "material") out += v.material;

@@ -4,6 +4,7 @@
 // naming the JSON path ("panels[1].step: must be >= 0, got -5").
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -44,7 +45,9 @@ struct CaptionValues {
   long long triangles = 0;
   long long vertices = 0;
   long long step = 0;      // iteration shown
-  double wall_seconds = 0; // wall time measured for simulating the panel, s
+  // Wall time measured for simulating the panel, s; unset (drawn as "see report") unless
+  // times are asked for in the image (tissu figure --caption-times).
+  std::optional<double> wall_seconds;
   double time = 0;         // simulated time of the state shown, s
   std::string integrator;
   std::string material;

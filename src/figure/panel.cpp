@@ -161,13 +161,13 @@ Image render_panel(const Scene& scene, const PanelRun& run, int width, int heigh
   return image;
 }
 
-CaptionValues caption_values(const Scene& scene, const PanelRun& run) {
+CaptionValues caption_values(const Scene& scene, const PanelRun& run, bool wall_time) {
   CaptionValues v;
   v.name = scene.name;
   v.triangles = run.sim.model.num_triangles();
   v.vertices = run.sim.model.num_vertices();
   v.step = run.sim.state.step;
-  v.wall_seconds = run.simulate_seconds;
+  if (wall_time) v.wall_seconds = run.simulate_seconds;
   v.time = run.sim.state.t;
   v.integrator = integrator_name(run.sim.model.integrator);
   v.material = run.sim.model.material.name;
@@ -177,8 +177,8 @@ CaptionValues caption_values(const Scene& scene, const PanelRun& run) {
 }
 
 std::string panel_caption(const std::string& caption_template, const Scene& scene,
-                          const PanelRun& run) {
-  std::string caption = expand_caption(caption_template, caption_values(scene, run));
+                          const PanelRun& run, bool wall_time) {
+  std::string caption = expand_caption(caption_template, caption_values(scene, run, wall_time));
   if (run.divergence) {
     caption += "\ndiverged at iteration " + std::to_string(run.divergence->step);
   }

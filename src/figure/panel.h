@@ -53,12 +53,13 @@ Camera panel_camera(const RenderSettings& settings, const Model& model, const Ve
 // Draws the state shown in `run` at `width` x `height`.
 Image render_panel(const Scene& scene, const PanelRun& run, int width, int height);
 
-// Caption values of a finished run.
-CaptionValues caption_values(const Scene& scene, const PanelRun& run);
+// Caption values of a finished run; the measured wall time only when `wall_time` is set
+// (it changes from run to run, so by default images leave it out).
+CaptionValues caption_values(const Scene& scene, const PanelRun& run, bool wall_time);
 
 // The caption of a finished run: the template expanded, plus a line
 // "diverged at iteration N" when the run diverged.
 std::string panel_caption(const std::string& caption_template, const Scene& scene,
-                          const PanelRun& run);
+                          const PanelRun& run, bool wall_time);
 
 }  // namespace tissu

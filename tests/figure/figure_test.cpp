@@ -177,6 +177,8 @@ TEST_F(FigureTest, CaptionTemplates) {
             "Tissu 1 : 4847 triangles, T = 1.234 s");  // 1.2345 rounds to even in printf
   EXPECT_EQ(expand_caption("{step} iterations, t = {t}, {correction} {{x}}", v),
             "31 iterations, t = 0.260 s, with position correction {x}");
+  v.wall_seconds.reset();  // times left out of the image
+  EXPECT_EQ(expand_caption("T = {T}", v), "T = see report");
   EXPECT_THROW(check_caption_template("open {name", "c"), InputError);
   EXPECT_THROW(check_caption_template("close }", "c"), InputError);
 }
@@ -291,6 +293,42 @@ TEST_F(FigureTest, CommandWritesTheImageOrRejectsBadInput) {
             0u)
       << read_text(dir_ / "err.txt");
   EXPECT_FALSE(fs::exists(out2.parent_path()));
+}
+
+// The image leaves the measured wall times out (the report beside it has them), so two
+// runs give the same bytes; --caption-times draws them.
+TEST_F(FigureTest, CommandImageIsTheSameBitsOnEveryRun) {
+  Json doc = two_panels();
+  doc["panels"][0]["step"] = 3000;  // milliseconds of simulation: {T} would differ
+  std::ofstream(figure_file()) << doc.dump();
+  const fs::path first = dir_ / "a" / "fig.png", second = dir_ / "b" / "fig.png";
+  for (const fs::path& out : {first, second}) {
+    ASSERT_EQ(run_tissu("figure " + figure_file() + " --out " + out.string() + " --quiet",
+                        dir_ / "err.txt"),
+              0)
+        << read_text(dir_ / "err.txt");
+  }
+  EXPECT_GT(read_text(first).size(), 0u);
+  EXPECT_TRUE(read_text(first) == read_text(second)) << "the PNGs differ";
+
+  const Json report = Json::parse(read_text(dir_ / "a" / "fig.report.json"));
+  ASSERT_EQ(report["panels"].size(), 2u);
+  EXPECT_EQ(report["panels"][0]["caption"], "tiny : 50 triangles, T = see report");
+  EXPECT_EQ(report["panels"][0]["step_shown"], 3000);
+  EXPECT_GT(report["panels"][0]["wall_time_s"]["simulate"].get<double>(), 0.0);
+  EXPECT_EQ(report["panels"][1]["caption"], "benameur_djedi, 10 iterations");
+
+  const fs::path timed = dir_ / "c" / "fig.png";
+  ASSERT_EQ(run_tissu("figure " + figure_file() + " --out " + timed.string() +
+                          " --caption-times --quiet",
+                      dir_ / "err.txt"),
+            0)
+      << read_text(dir_ / "err.txt");
+  const Json timed_report = Json::parse(read_text(dir_ / "c" / "fig.report.json"));
+  const std::string caption = timed_report["panels"][0]["caption"];
+  EXPECT_EQ(caption.rfind("tiny : 50 triangles, T = ", 0), 0u) << caption;
+  EXPECT_EQ(caption.find("see report"), std::string::npos) << caption;
+  EXPECT_EQ(caption.back(), 's') << caption;
 }
 
 // Golden frames: small versions of paper panels, rendered again and compared.
