@@ -102,9 +102,67 @@ MeshFileData read_with_assimp_in_process(const std::string& path, bool texture) 
   MeshFileData data;
   TriMesh& mesh = data.mesh;
   mesh.uv_from_file = with_texture;
-  std::map<std::array<double, 3>, int> id_at;        // welding by exact position
-  std::vector<std::string> first_place;              // where each vertex got its (u, v)
+  // Faces first: indices in range and corner positions finite, named by face.
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* source = scene->mMeshes[m];
+    for (unsigned f = 0; f < source->mNumFaces; ++f) {
+      const aiFace& face = source->mFaces[f];
+      for (unsigned k = 0; k < face.mNumIndices; ++k) {
+        const unsigned corner = face.mIndices[k];
+        if (corner >= source->mNumVertices) {
+          fail(place_of(m, f) + ": vertex index " + std::to_string(corner) +
+               " out of range (mesh has " + std::to_string(source->mNumVertices) + " vertices)");
+        }
+        const aiVector3D& p = source->mVertices[corner];
+        const Vec3 position(p.x, p.y, p.z);
+        if (!position.allFinite()) {
+          fail(place_of(m, f) + ": non-finite position " + format_short(position));
+        }
+      }
+    }
+  }
+
+  // Vertices in the order of the file's vertex list (assimp keeps it for PLY and OFF),
+  // mesh after mesh; a vertex at exactly the position of an earlier one is welded to it
+  // (formats such as STL store a vertex per corner), and then ids are no longer the file's.
+  std::map<std::array<double, 3>, int> id_at;
+  std::vector<std::string> first_place;  // where each vertex got its (u, v)
+  std::vector<std::vector<int>> id_of(scene->mNumMeshes);
   double extent = 0;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* source = scene->mMeshes[m];
+    id_of[m].resize(source->mNumVertices);
+    for (unsigned v = 0; v < source->mNumVertices; ++v) {
+      const aiVector3D& p = source->mVertices[v];
+      const Vec3 position(p.x, p.y, p.z);
+      const std::string place = "mesh " + std::to_string(m) + ", vertex " + std::to_string(v);
+      if (!position.allFinite()) fail(place + ": non-finite position " + format_short(position));
+      const auto [it, is_new] =
+          id_at.emplace(std::array<double, 3>{position.x(), position.y(), position.z()},
+                        static_cast<int>(mesh.positions.size()));
+      const int id = it->second;
+      id_of[m][v] = id;
+      if (is_new) {
+        mesh.positions.push_back(position);
+      } else {
+        mesh.file_vertex_ids = false;
+      }
+      if (!with_texture) continue;
+      const aiVector3D& t = source->mTextureCoords[0][v];
+      const Vec2 uv(t.x, t.y);
+      if (is_new) {
+        mesh.rest_uv.push_back(uv);
+        first_place.push_back(place);
+        extent = std::max(extent, uv.cwiseAbs().maxCoeff());
+      } else if (!same_texture_coordinates(mesh.rest_uv[id], uv,
+                                           std::max(extent, uv.cwiseAbs().maxCoeff()))) {
+        fail(place + ": the vertex at " + format_short(position) + " has texture coordinates " +
+             format_short(uv) + " here but " + format_short(mesh.rest_uv[id]) + " at " +
+             first_place[id] + "; " + kSeamAdvice);
+      }
+    }
+  }
+
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* source = scene->mMeshes[m];
     for (unsigned f = 0; f < source->mNumFaces; ++f) {
@@ -113,38 +171,8 @@ MeshFileData read_with_assimp_in_process(const std::string& path, bool texture) 
       // (assimp's own triangulation aborts on some malformed PLY files); points and lines
       // are skipped.
       for (unsigned fan = 1; fan + 1 < face.mNumIndices; ++fan) {
-        Tri tri;
-        for (int k = 0; k < 3; ++k) {
-          const unsigned corner = face.mIndices[k == 0 ? 0 : fan + k - 1];
-          if (corner >= source->mNumVertices) {
-            fail(place_of(m, f) + ": vertex index " + std::to_string(corner) +
-                 " out of range (mesh has " + std::to_string(source->mNumVertices) + " vertices)");
-          }
-          const aiVector3D& p = source->mVertices[corner];
-          const Vec3 position(p.x, p.y, p.z);
-          if (!position.allFinite()) {
-            fail(place_of(m, f) + ": non-finite position " + format_short(position));
-          }
-          const auto [it, is_new] = id_at.emplace(
-              std::array<double, 3>{position.x(), position.y(), position.z()},
-              static_cast<int>(mesh.positions.size()));
-          tri[k] = it->second;
-          if (is_new) mesh.positions.push_back(position);
-          if (!with_texture) continue;
-          const aiVector3D& t = source->mTextureCoords[0][corner];
-          const Vec2 uv(t.x, t.y);
-          if (is_new) {
-            mesh.rest_uv.push_back(uv);
-            first_place.push_back(place_of(m, f));
-            extent = std::max(extent, uv.cwiseAbs().maxCoeff());
-          } else if (!same_texture_coordinates(mesh.rest_uv[tri[k]], uv,
-                                               std::max(extent, uv.cwiseAbs().maxCoeff()))) {
-            fail(place_of(m, f) + ": the vertex at " + format_short(position) +
-                 " has texture coordinates " + format_short(uv) + " here but " +
-                 format_short(mesh.rest_uv[tri[k]]) + " at " + first_place[tri[k]] + "; " +
-                 kSeamAdvice);
-          }
-        }
+        const Tri tri(id_of[m][face.mIndices[0]], id_of[m][face.mIndices[fan]],
+                      id_of[m][face.mIndices[fan + 1]]);
         mesh.triangles.push_back(tri);
         data.triangle_places.push_back(place_of(m, f));
       }

@@ -2,8 +2,8 @@
 // by fuzzing) reads the file in a child process with a time limit. The child sends its
 // result through a pipe in a simple binary form:
 //   u8 status: 0 = read, 1 = InputError, 2 = another exception
-//   status 0: u8 uv_from_file, u64 V, V x 3 f64 positions, u64 U, U x 2 f64 rest_uv,
-//             u64 T, T x 3 i32 triangles, u64 P, P x (u64 length, bytes) triangle places
+//   status 0: u8 uv_from_file, u8 file_vertex_ids, u64 V, V x 3 f64 positions,
+//             u64 U, U x 2 f64 rest_uv, u64 T, T x 3 i32 triangles, u64 P, P x (u64 length, bytes) triangle places
 //   status 1 or 2: u64 length, bytes of the message
 // (native byte order: the child is a fork of this process.)
 #include <errno.h>
@@ -66,6 +66,7 @@ std::string encode(const MeshFileData& data) {
   Encoder out;
   out.put<uint8_t>(kRead);
   out.put<uint8_t>(data.mesh.uv_from_file ? 1 : 0);
+  out.put<uint8_t>(data.mesh.file_vertex_ids ? 1 : 0);
   out.put<uint64_t>(data.mesh.positions.size());
   for (const Vec3& p : data.mesh.positions) {
     for (int k = 0; k < 3; ++k) out.put<double>(p[k]);
@@ -323,6 +324,7 @@ MeshFileData read_with_assimp(const std::string& path, bool texture) {
     MeshFileData data;
     TriMesh& mesh = data.mesh;
     mesh.uv_from_file = in.get<uint8_t>() != 0;
+    mesh.file_vertex_ids = in.get<uint8_t>() != 0;
     mesh.positions.resize(in.get_count(3 * sizeof(double)));
     for (Vec3& p : mesh.positions) {
       for (int k = 0; k < 3; ++k) p[k] = in.get<double>();

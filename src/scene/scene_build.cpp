@@ -57,6 +57,19 @@ void require_finite(const Vec3List& x, const std::string& key) {
   }
 }
 
+// Pins by vertex id need ids that are the file's: refused for a file whose corners were
+// welded by position (STL stores no vertex list).
+void require_file_vertex_ids(const std::vector<PinSpec>& pins, const TriMesh& mesh,
+                             const MeshSpec& spec) {
+  if (mesh.file_vertex_ids) return;
+  for (const PinSpec& pin : pins) {
+    if (pin.vertices.empty()) continue;
+    throw InputError(pin.path + ".vertices: " + spec.file + " has no vertex list of its own "
+                     "(corners at the same position were welded, as for STL), so vertex ids "
+                     "are not the file's: pin by \"box\" instead, or use OBJ, PLY or OFF");
+  }
+}
+
 void apply_pins(const std::vector<PinSpec>& pins, const Vec3List& x, std::vector<uint8_t>& pinned) {
   const long long n = static_cast<long long>(x.size());
   for (const PinSpec& pin : pins) {
@@ -144,6 +157,7 @@ void load_obstacle_surface(const ObstacleMeshSpec& spec, Obstacle& ob) {
 
 Simulation build(const Scene& scene) {
   TriMesh mesh = make_mesh(scene.mesh);
+  require_file_vertex_ids(scene.pins, mesh, scene.mesh);
   Simulation sim;
   Model& model = sim.model;
   model.triangles = std::move(mesh.triangles);

@@ -134,6 +134,43 @@ TEST_F(meshLoad, OtherFormatsGoThroughAssimpAndAreWelded) {
   EXPECT_NEAR(measure_quality(mesh).total_area, 1.0, 1e-12);
 }
 
+TEST_F(meshLoad, SameGridHasTheSameIdsAsObjAndPlyAndStlIsMarkedWelded) {
+  // A 3 x 2 grid whose faces use the vertices out of their file order.
+  const char* positions[] = {"0 0 0", "1 0 0", "2 0 0", "0 1 0", "1 1 0", "2 1 0"};
+  const int faces[4][3] = {{1, 2, 5}, {1, 5, 4}, {0, 1, 4}, {0, 4, 3}};
+  std::string obj, ply = "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\n"
+                         "property float y\nproperty float z\nelement face 4\n"
+                         "property list uchar int vertex_indices\nend_header\n";
+  std::string stl = "solid grid\n";
+  for (const char* p : positions) {
+    obj += std::string("v ") + p + "\n";
+    ply += std::string(p) + "\n";
+  }
+  for (const auto& f : faces) {
+    obj += "f " + std::to_string(f[0] + 1) + " " + std::to_string(f[1] + 1) + " " +
+           std::to_string(f[2] + 1) + "\n";
+    ply += "3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " +
+           std::to_string(f[2]) + "\n";
+    stl += "facet normal 0 0 1\nouter loop\n";
+    for (int k = 0; k < 3; ++k) stl += std::string("vertex ") + positions[f[k]] + "\n";
+    stl += "endloop\nendfacet\n";
+  }
+  stl += "endsolid grid\n";
+  const TriMesh from_obj = load_mesh(dir_.write("grid.obj", obj), 1.0);
+  const TriMesh from_ply = load_mesh(dir_.write("grid.ply", ply), 1.0);
+  const TriMesh from_stl = load_mesh(dir_.write("grid.stl", stl), 1.0);
+  ASSERT_EQ(from_obj.positions.size(), 6u);
+  EXPECT_EQ(from_ply.positions, from_obj.positions);
+  EXPECT_EQ(from_ply.triangles, from_obj.triangles);
+  EXPECT_TRUE(from_obj.file_vertex_ids);
+  EXPECT_TRUE(from_ply.file_vertex_ids);
+  // STL has no vertex list: its corners are welded in order of appearance, and the mesh
+  // says its ids are not the file's (pins by id are refused, see scene_test).
+  EXPECT_EQ(from_stl.positions.size(), 6u);
+  EXPECT_NE(from_stl.positions, from_obj.positions);
+  EXPECT_FALSE(from_stl.file_vertex_ids);
+}
+
 TEST_F(meshLoad, AssimpFormatTextureCoordinatesAreUsed) {
   const TriMesh mesh = load_mesh(dir_.write("square.ply", kSquarePly), 0.5);
   EXPECT_TRUE(mesh.uv_from_file);
