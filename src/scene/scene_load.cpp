@@ -141,12 +141,20 @@ void apply_override(Json& doc, const std::string& assignment) {
     } else if (node->is_object()) {
       if (!last && !node->contains(part)) (*node)[part] = Json::object();
       node = &(*node)[part];
+      // A preset name overridden field by field becomes the preset-plus-fields form.
+      if (!last && walked == "cloth.material" && node->is_string()) {
+        *node = Json{{"preset", node->get<std::string>()}};
+      }
     } else {
       throw InputError("--set " + assignment + ": " + walked + " is inside a value that is "
                        "not an object");
     }
   }
   *node = value;
+  // steps and duration say the same thing: the one overridden replaces the other.
+  if (doc.is_object() && parts.size() == 1 && (key == "steps" || key == "duration")) {
+    doc.erase(key == "steps" ? "duration" : "steps");
+  }
 }
 
 namespace {

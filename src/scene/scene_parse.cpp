@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "core/executable_dir.h"
@@ -99,37 +100,55 @@ ClothTransform parse_transform(JsonReader t) {
   return out;
 }
 
+// The preset named `name`, or an error at `path` listing the presets.
+Material preset_at(const std::string& name, const std::string& path) {
+  if (auto preset = material_preset(name)) return *preset;
+  std::string list;
+  for (const std::string& n : material_preset_names()) list += (list.empty() ? "" : ", ") + n;
+  const std::string near = closest_key(name, material_preset_names());
+  throw InputError(path + ": unknown preset \"" + name + "\"" +
+                   (near.empty() ? "" : " (did you mean \"" + near + "\"?)") +
+                   "; expected one of " + list + ", or an object");
+}
+
+// A preset name, or an object: with "preset", that preset with the named fields replaced;
+// without, every required field given.
 Material parse_material(JsonReader& cloth) {
   const Json& value = cloth.raw("material");
   const std::string path = cloth.path_of("material");
-  if (value.is_string()) {
-    const std::string name = value.get<std::string>();
-    if (auto preset = material_preset(name)) return *preset;
-    std::string list;
-    for (const std::string& n : material_preset_names()) list += (list.empty() ? "" : ", ") + n;
-    const std::string near = closest_key(name, material_preset_names());
-    throw InputError(path + ": unknown preset \"" + name + "\"" +
-                     (near.empty() ? "" : " (did you mean \"" + near + "\"?)") +
-                     "; expected one of " + list + ", or an object");
-  }
+  if (value.is_string()) return preset_at(value.get<std::string>(), path);
   JsonReader m(value, path);
-  Material mat;
-  mat.name = "custom";
-  mat.density = m.number("density", Range::positive());
-  JsonReader k = m.object("stiffness");
-  mat.weft = k.number("weft", Range::positive());
-  mat.warp = k.number("warp", Range::positive());
-  mat.coupling = k.number("coupling", 0.0, Range::any());
-  mat.shear = k.number("shear", Range::positive());
-  k.finish();
+  std::optional<Material> base;
+  if (m.has("preset")) {
+    base = preset_at(m.string("preset"), m.path_of("preset"));
+    base->name += ", modified";
+  }
+  Material mat = base.value_or(Material{});
+  if (!base) mat.name = "custom";
+  // A field of the preset when there is one, else required.
+  auto field = [&](JsonReader& r, const std::string& key, double preset_value, Range range) {
+    return base ? r.number(key, preset_value, range) : r.number(key, range);
+  };
+  mat.density = field(m, "density", mat.density, Range::positive());
+  if (base && !m.has("stiffness")) {
+    m.accept("stiffness");
+  } else {
+    JsonReader k = m.object("stiffness");
+    mat.weft = field(k, "weft", mat.weft, Range::positive());
+    mat.warp = field(k, "warp", mat.warp, Range::positive());
+    mat.coupling = k.number("coupling", base ? mat.coupling : 0.0, Range::any());
+    mat.shear = field(k, "shear", mat.shear, Range::positive());
+    k.finish();
+  }
   // E must be positive definite (weft, warp > 0 and coupling^2 < weft * warp).
   if (!(mat.coupling * mat.coupling < mat.weft * mat.warp)) {
-    throw InputError(k.path_of("coupling") + ": must satisfy coupling^2 < weft * warp (E "
+    throw InputError(path + ".stiffness.coupling: must satisfy coupling^2 < weft * warp (E "
                      "positive definite), got " + format_number(mat.coupling));
   }
-  mat.bending = m.number("bending", 0.0, Range::non_negative());
-  mat.bending_warp = m.number("bending_warp", -1.0, Range::non_negative());
-  mat.damping = m.number("damping", 0.0, Range::non_negative());
+  mat.bending = m.number("bending", base ? mat.bending : 0.0, Range::non_negative());
+  mat.bending_warp =
+      m.number("bending_warp", base ? mat.bending_warp : -1.0, Range::non_negative());
+  mat.damping = m.number("damping", base ? mat.damping : 0.0, Range::non_negative());
   m.finish();
   return mat;
 }

@@ -144,6 +144,24 @@ TEST_F(Cli, BadOverrideAndUsageExitTwo) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST_F(Cli, OverridesOfAPresetFieldAndOfStepsOnTheDemo) {
+  // demo.json names its material by preset and gives a duration: a field of the preset
+  // and the step count are overridden all the same.
+  const std::string demo = (fs::path(TISSU_SOURCE_DIR) / "scenes" / "demo.json").string();
+  const fs::path out = dir_ / "out";
+  Result r = run("run " + demo + " --out " + out.string() +
+                 " --quiet --set steps=2 --set cloth.material.density=0.2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_json(out / "report.json")["steps_done"], 2);
+  // A field the material has not is still one line naming the override and the place.
+  r = run("run " + demo + " --out " + (dir_ / "out2").string() +
+          " --quiet --set steps=2 --set cloth.material.densty=0.2");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "tissu: --set cloth.material.densty=0.2: cloth.material.densty: unknown key "
+                   "(did you mean \"cloth.material.density\"?)\n");
+  EXPECT_FALSE(fs::exists(dir_ / "out2"));
+}
+
 TEST_F(Cli, OutputDirectoryThatCannotBeCreated) {
   const std::string path = write_scene("s.json", small_scene());
   std::ofstream(dir_ / "file") << "x";

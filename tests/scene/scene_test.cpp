@@ -4,9 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+
+#include "physics/materials.h"
 
 namespace tissu {
 namespace {
@@ -140,6 +143,34 @@ TEST(SceneValidation, PinsOutOfRangeOrSelectingNothing) {
   EXPECT_EQ(build_error(doc), "cloth.pins[0].box: selects no vertex");
 }
 
+TEST(SceneValidation, MaterialPresetWithOverrides) {
+  Json doc = valid();
+  doc["cloth"]["material"] = {{"preset", "linen"}, {"bending", 2e-5}};
+  const Material linen = *material_preset("linen");
+  Material m = parse_scene(doc, "").material;
+  EXPECT_EQ(m.bending, 2e-5);
+  EXPECT_EQ(m.bending_warp, linen.bending_warp) << "only the named fields change";
+  EXPECT_EQ(m.density, linen.density);
+  EXPECT_EQ(m.weft, linen.weft);
+  EXPECT_EQ(m.warp, linen.warp);
+  EXPECT_EQ(m.shear, linen.shear);
+  EXPECT_EQ(m.coupling, linen.coupling);
+  EXPECT_EQ(m.damping, linen.damping);
+  EXPECT_EQ(m.name, "linen, modified");
+  doc["cloth"]["material"] = {{"preset", "linen"}, {"stiffness", {{"warp", 2 * linen.warp}}}};
+  m = parse_scene(doc, "").material;
+  EXPECT_EQ(m.warp, 2 * linen.warp);
+  EXPECT_EQ(m.weft, linen.weft);
+  doc["cloth"]["material"] = {{"preset", "linen"}, {"bendin", 2e-5}};
+  EXPECT_EQ(parse_error(doc), "cloth.material.bendin: unknown key (did you mean "
+                              "\"cloth.material.bending\"?)");
+  doc["cloth"]["material"] = {{"preset", "lnen"}};
+  EXPECT_EQ(parse_error(doc).rfind("cloth.material.preset: unknown preset \"lnen\" (did you "
+                                   "mean \"linen\"?)", 0), 0u) << parse_error(doc);
+  doc["cloth"]["material"] = {{"preset", "linen"}, {"density", -1}};
+  EXPECT_EQ(parse_error(doc), "cloth.material.density: must be > 0, got -1");
+}
+
 TEST(SceneValidation, NonPositiveDefiniteStiffness) {
   Json doc = valid();
   doc["cloth"]["material"] = Json::parse(
@@ -209,6 +240,58 @@ TEST_F(SceneFiles, OverridesAreAppliedAndValidated) {
             "--set dt: expected KEY=VALUE, e.g. --set dt=1e-4");
   EXPECT_EQ(error_of([&] { load_scene(path, {"name.first=3"}); }),
             "--set name.first=3: name.first is inside a value that is not an object");
+}
+
+TEST_F(SceneFiles, OverrideOfAPresetFieldKeepsThePreset) {
+  const std::string path = write("ok.json", kValid);  // "material": "cotton"
+  const Material cotton = *material_preset("cotton");
+  const Scene s = load_scene(path, {"cloth.material.density=0.2",
+                                    "cloth.material.stiffness.shear=3"});
+  EXPECT_EQ(s.material.density, 0.2);
+  EXPECT_EQ(s.material.shear, 3);
+  EXPECT_EQ(s.material.weft, cotton.weft);
+  EXPECT_EQ(s.material.bending, cotton.bending);
+  EXPECT_EQ(s.material.name, "cotton, modified");
+  EXPECT_EQ(load_scene(path, {"cloth.material.preset=silk"}).material.name, "silk, modified");
+  EXPECT_EQ(error_of([&] { load_scene(path, {"cloth.material.bendng=1"}); }),
+            "--set cloth.material.bendng=1: cloth.material.bendng: unknown key (did you mean "
+            "\"cloth.material.bending\"?)");
+}
+
+TEST_F(SceneFiles, OverrideOfStepsReplacesDurationAndBack) {
+  Json doc = valid();
+  doc.erase("steps");
+  doc["duration"] = 0.5;
+  const std::string with_duration = write("d.json", doc.dump());
+  EXPECT_EQ(load_scene(with_duration).steps, 5000);
+  EXPECT_EQ(load_scene(with_duration, {"steps=7"}).steps, 7);
+  const std::string with_steps = write("s.json", kValid);
+  EXPECT_EQ(load_scene(with_steps, {"duration=0.01"}).steps, 100);
+  EXPECT_EQ(load_scene(with_steps, {"duration=0.01", "steps=3"}).steps, 3);
+}
+
+TEST_F(SceneFiles, PinsByVertexIdAreRefusedForWeldedFiles) {
+  // STL stores a vertex per corner: the ids of the welded vertices are not the file's.
+  write("square.stl",
+        "solid square\n"
+        "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\n"
+        "endfacet\n"
+        "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\n"
+        "endfacet\n"
+        "endsolid square\n");
+  Json doc = valid();
+  doc["cloth"]["mesh"] = {{"file", "square.stl"}};
+  doc["cloth"]["pins"] = Json::parse(R"([{"box": {"min": [0, 0, 0], "max": [1, 0, 0]}},
+                                         {"vertices": [3]}])");
+  const std::string path = write("stl.json", doc.dump());
+  EXPECT_EQ(error_of([&] { build_simulation(load_scene(path)); }),
+            path + ": cloth.pins[1].vertices: " + (dir_ / "square.stl").string() +
+                " has no vertex list of its own (corners at the same position were welded, "
+                "as for STL), so vertex ids are not the file's: pin by \"box\" instead, or "
+                "use OBJ, PLY or OFF");
+  doc["cloth"]["pins"] = Json::parse(R"([{"box": {"min": [0, 0, 0], "max": [1, 0, 0]}}])");
+  const Simulation sim = build_simulation(load_scene(write("box.json", doc.dump())));
+  EXPECT_EQ(std::count(sim.model.pinned.begin(), sim.model.pinned.end(), 1), 2);
 }
 
 TEST_F(SceneFiles, MeshFileRelativeToScene) {
