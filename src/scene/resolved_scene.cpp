@@ -29,7 +29,11 @@ Json material_json(const Material& material) {
 Json resolved_scene(const Json& doc, const Scene& scene) {
   Json out = doc;
   Json& cloth = out["cloth"];
-  if (cloth["material"].is_string()) cloth["material"] = material_json(scene.material);
+  // A preset, by name or with overrides, becomes its numbers.
+  const Json& material = cloth["material"];
+  if (material.is_string() || (material.is_object() && material.contains("preset"))) {
+    cloth["material"] = material_json(scene.material);
+  }
   if (scene.mesh.kind == MeshSpec::Kind::File) {
     cloth["mesh"]["file"] = absolute_path(scene.mesh.file);
   }

@@ -509,6 +509,17 @@ TEST_F(Cli, ReportHoldsWhatReproducesTheRun) {
   EXPECT_GT(material["density"].get<double>(), 0.0);
   EXPECT_GT(material["stiffness"]["weft"].get<double>(), 0.0);
 
+  // A preset with an override also becomes numbers, the override among them.
+  const fs::path out3 = dir_ / "out3";
+  const Result r3 = run("run " + scene + " --out " + out3.string() +
+                        " --set steps=10 --set cloth.material=cotton"
+                        " --set cloth.material.bending=2e-5 --quiet");
+  ASSERT_EQ(r3.exit_code, 0) << r3.err;
+  const Json overridden = read_json(out3 / "report.json")["resolved_scene"]["cloth"]["material"];
+  EXPECT_FALSE(overridden.contains("preset")) << overridden;
+  EXPECT_EQ(overridden["bending"], 2e-5) << overridden;
+  EXPECT_EQ(overridden["density"], material["density"]) << overridden;
+
   // The resolved scene, alone and elsewhere, runs to the same frames.
   fs::create_directories(dir_ / "elsewhere");
   const std::string again = write_scene("elsewhere/resolved.json", resolved);
