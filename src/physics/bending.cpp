@@ -38,6 +38,23 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3List must be contiguous d
 
 inline double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
+// Mean squared edge length of triangle p, m^2.
+double mean_squared_edge(const Vec2 p[3]) {
+  return ((p[1] - p[0]).squaredNorm() + (p[2] - p[1]).squaredNorm() +
+          (p[0] - p[2]).squaredNorm()) /
+         3.0;
+}
+
+// Gradients of the barycentric coordinates of triangle p, 1/m (the paper's r_u, r_v of
+// eq. 2); d is twice its signed area.
+void barycentric_gradients(const Vec2 p[3], double d, Vec2 g[3]) {
+  for (int i = 0; i < 3; ++i) {
+    const Vec2& a = p[(i + 1) % 3];
+    const Vec2& b = p[(i + 2) % 3];
+    g[i] = Vec2(a.y() - b.y(), b.x() - a.x()) / d;
+  }
+}
+
 // Second-derivative weights of one triangle for a given set of extra points.
 struct Fit {
   int count = 0;                                // 3 + number of extra points
@@ -58,18 +75,12 @@ struct Fit {
 // values are affine (r = 0).
 Fit fit_hessian(const Vec2 p[3], const std::vector<Vec2>& q) {
   const double d = cross2(p[1] - p[0], p[2] - p[0]);  // twice the signed area, m^2
-  const double l2 =
-      ((p[1] - p[0]).squaredNorm() + (p[2] - p[1]).squaredNorm() + (p[0] - p[2]).squaredNorm()) /
-      3.0;
+  const double l2 = mean_squared_edge(p);
   auto phi = [&](int i, const Vec2& w) {
     return cross2(p[(i + 1) % 3] - w, p[(i + 2) % 3] - w) / d;
   };
-  Vec2 g[3];  // barycentric gradients, 1/m (the paper's r_u, r_v of eq. 2)
-  for (int i = 0; i < 3; ++i) {
-    const Vec2& a = p[(i + 1) % 3];
-    const Vec2& b = p[(i + 2) % 3];
-    g[i] = Vec2(a.y() - b.y(), b.x() - a.x()) / d;
-  }
+  Vec2 g[3];  // barycentric gradients, 1/m
+  barycentric_gradients(p, d, g);
   // Constant Hessians (uu, vv, uv) of the bubbles, 1/m^2.
   double hb[3][3];
   for (int k = 0; k < 3; ++k) {
@@ -154,9 +165,7 @@ Fit fit_hessian(const Vec2 p[3], const std::vector<Vec2>& q) {
 // over its tiny height). Still exact for quadratic fields and zero on affine ones.
 Fit fit_least_squares(const Vec2 p[3], const std::vector<Vec2>& q) {
   const int n = 3 + static_cast<int>(q.size());
-  const double l2 =
-      ((p[1] - p[0]).squaredNorm() + (p[2] - p[1]).squaredNorm() + (p[0] - p[2]).squaredNorm()) /
-      3.0;
+  const double l2 = mean_squared_edge(p);
   const double ell = std::sqrt(l2);
   const Vec2 centroid = (p[0] + p[1] + p[2]) / 3.0;
   // Monomials 1, x, y, x^2/2, y^2/2, xy in coordinates scaled by ell.
@@ -588,12 +597,12 @@ std::vector<BendingStencil> flux_hessians(const TriList& triangles, const Vec2Li
     for (int t : tris) {
       if (!clamped[t]) continue;
       const Tri& tri = triangles[t];
-      const double d = cross2(uv[tri[1]] - uv[tri[0]], uv[tri[2]] - uv[tri[0]]);
-      for (int i = 0; i < 3; ++i) {  // gradient of the linear interpolant, 1/m
-        const Vec2& a = uv[tri[(i + 1) % 3]];
-        const Vec2& b = uv[tri[(i + 2) % 3]];
-        sum[0].add(tri[i], (a.y() - b.y()) / d);
-        sum[1].add(tri[i], (b.x() - a.x()) / d);
+      const Vec2 p[3] = {uv[tri[0]], uv[tri[1]], uv[tri[2]]};
+      Vec2 g[3];  // the linear interpolant's gradient is sum_i g_i x_i
+      barycentric_gradients(p, cross2(p[1] - p[0], p[2] - p[0]), g);
+      for (int i = 0; i < 3; ++i) {
+        sum[0].add(tri[i], g[i].x());
+        sum[1].add(tri[i], g[i].y());
       }
       ++count;
     }
@@ -609,17 +618,18 @@ std::vector<BendingStencil> flux_hessians(const TriList& triangles, const Vec2Li
   std::vector<BendingStencil> stencils(T);
   for (int t = 0; t < T; ++t) {
     const Tri& tri = triangles[t];
+    const Vec2 p[3] = {uv[tri[0]], uv[tri[1]], uv[tri[2]]};
+    const double d = cross2(p[1] - p[0], p[2] - p[0]);  // twice the signed area, m^2
+    const double area = 0.5 * std::abs(d);
     BendingStencil& st = stencils[t];
-    st.area = 0.5 * std::abs(cross2(uv[tri[1]] - uv[tri[0]], uv[tri[2]] - uv[tri[0]]));
+    st.area = area;
     if (clamped[t]) continue;  // held rigid: no bending
     if (own_hessian[t]) {
       *patch_hessians += 1;
-      st = patch_stencil(t, st.area);
+      st = patch_stencil(t, area);
       continue;
     }
-    const double area =
-        0.5 * std::abs(cross2(uv[tri[1]] - uv[tri[0]], uv[tri[2]] - uv[tri[0]]));
-    const double orientation = cross2(uv[tri[1]] - uv[tri[0]], uv[tri[2]] - uv[tri[0]]) > 0 ? 1 : -1;
+    const double orientation = d > 0 ? 1 : -1;
     Weights h[3];  // uu, vv, uv
     for (int k = 0; k < 3; ++k) {
       const int a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
@@ -651,8 +661,7 @@ std::vector<BendingStencil> flux_hessians(const TriList& triangles, const Vec2Li
     st.w_uu = dense(h[0]);
     st.w_vv = dense(h[1]);
     st.w_uv = dense(h[2]);
-    const Vec2 p0 = uv[tri[0]], p1 = uv[tri[1]], p2 = uv[tri[2]];
-    const double l2 = ((p1 - p0).squaredNorm() + (p2 - p1).squaredNorm() + (p0 - p2).squaredNorm()) / 3.0;
+    const double l2 = mean_squared_edge(p);
     double sum_sq = 0.0;
     for (size_t n = 0; n < st.vertex.size(); ++n) {
       sum_sq += st.w_uu[n] * st.w_uu[n] + st.w_vv[n] * st.w_vv[n] + st.w_uv[n] * st.w_uv[n];
@@ -662,7 +671,7 @@ std::vector<BendingStencil> flux_hessians(const TriList& triangles, const Vec2Li
     const double amplification = l2 * std::sqrt(sum_sq);
     if (amplification > kMaxAmplification && amplification > fits[t].amplification) {
       *patch_hessians += 1;
-      st = patch_stencil(t, st.area);
+      st = patch_stencil(t, area);
     }
   }
   return stencils;

@@ -3,12 +3,15 @@
 // Discrete plate energy, summed over the triangles T of the flat rest sheet:
 //   E = sum_T A_T/2 (B_weft |x_uu|^2 + B_warp |x_vv|^2 + (B_weft + B_warp) |x_uv|^2),
 // where x_uu, x_vv, x_uv are the second derivatives of the 3D position with respect to the
-// rest coordinates (u = weft, v = warp), estimated on each triangle by the quadratic patch
-// through its 3 corners and the 3 apices of its hinges (the union of the triangle's three
-// 4-vertex hinge stencils; nearby vertices replace apices missing at boundaries or nearly
-// on a conic with the corners, and needle or cap triangles use a least-squares quadratic
-// over their nearby vertices). The estimate is exact whenever x is a quadratic function
-// of (u, v), on any triangulation.
+// rest coordinates (u = weft, v = warp), estimated on each triangle as the flux of edge
+// gradients through its boundary, 1/A_T sum_e l_e G_e n_e^T. G_e is the mean gradient, at
+// the edge's midpoint, of the quadratic patches of the edge's triangles; a triangle's patch
+// passes through its 3 corners and the 3 apices of its hinges (nearby vertices replace
+// apices missing at boundaries or nearly on a conic with the corners, and needle or cap
+// triangles use a least-squares quadratic over their nearby vertices, and their own patch's
+// Hessian). The estimate is exact whenever x is a quadratic function of (u, v), on any
+// triangulation, and no pattern of vertex values passes for a curvature. Triangles whose
+// corners are all pinned are a clamp: no bending, and their edges keep the clamp's slope.
 //
 // For an isometric deformation of the flat rest sheet (cloth barely stretches) the second
 // derivatives are normal to the surface and their norms are the curvatures, so E is the

@@ -741,15 +741,6 @@ const ImplicitReport* last_implicit_report(const Workspace& ws) {
   return ws.scratch && ws.scratch->implicit ? &ws.scratch->implicit->report : nullptr;
 }
 
-// One substep of h from t, with the collision stage (cloth_contact.h) when the model needs
-// it. The stage corrects velocities (and so positions) after a solve; applied alone to an
-// implicit step of this size, its corrections (millimetres near an obstacle's edge) are
-// answered by no other vertex and stretch the membrane, measured as spikes of elastic
-// energy. So the substep is solved again from its start with the stage's velocity changes
-// given as impulses, which the rest of the cloth answers within the solve, and the stage
-// then runs once more on that result. The impulses are the stage's own (outward from
-// obstacles, equal and opposite between layers), so the substep gains no momentum the
-// stage did not give.
 // Rounds of impulses a substep may take, and the stage correction (a fraction of the
 // contact thickness) below which its result stands.
 constexpr int kMaxKickRounds = 3;
@@ -771,6 +762,16 @@ double contact_length(const Model& model) {
   return length;
 }
 
+// One substep of h from t, with the collision stage (cloth_contact.h) when the model needs
+// it. The stage corrects velocities (and so positions) after a solve; applied alone to an
+// implicit step of this size, its corrections (millimetres near an obstacle's edge) are
+// answered by no other vertex and stretch the membrane, measured as spikes of elastic
+// energy. So while the stage moves a position by more than kKickTolerance of the contact
+// length, the substep is solved again from its start with the stage's velocity changes so
+// far given as impulses, which the rest of the cloth answers within the solve, and the
+// stage runs on that result (at most kMaxKickRounds times). The impulses are the stage's
+// own (outward from obstacles, equal and opposite between layers), so the substep gains no
+// momentum the stage did not give.
 void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s, double h,
              double t, bool stage) {
   s.kicks.clear();
@@ -783,6 +784,7 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   method_step(model, state, ws, h, t);
   int newton = ws.newton_iterations, cg = ws.cg_iterations;
   s.kicks.assign(model.num_vertices(), Vec3::Zero());
+  const double settled = kKickTolerance * contact_length(model);  // m
   // Each round solves with the impulses found so far; the stage's further corrections of
   // that solve are added to them, until the stage has little left to correct.
   for (int round = 0;; ++round) {
@@ -795,7 +797,7 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
       s.kicks[i] += kick;
       largest = std::max(largest, h * kick.norm());
     }
-    if (largest <= kKickTolerance * contact_length(model) || round == kMaxKickRounds) break;
+    if (largest <= settled || round == kMaxKickRounds) break;
     state = start;
     s.contacts = contacts;
     method_step(model, state, ws, h, t);
