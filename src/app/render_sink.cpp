@@ -12,8 +12,11 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "app/signals.h"
 #include "figure/obstacle_shape.h"
 #include "render/cpu_clock.h"
+#include "render/scene_bounds.h"
+#include "video/progress_bar.h"
 
 namespace tissu {
 
@@ -75,8 +78,15 @@ struct RenderSink::Topology {
   Vec2List rest_uv;
 };
 
+// The automatic camera of a whole run, fixed before its first frame is drawn.
+struct RenderSink::CameraFit {
+  Eigen::AlignedBox3d shown;
+  std::vector<ObstacleShape> obstacles;
+};
+
 // One queued frame: everything the renderer needs, copied out of the simulation state.
 struct RenderSink::Job {
+  std::shared_ptr<const CameraFit> camera_fit;  // set on the first frame of a held run
   std::shared_ptr<const Topology> topology;
   Vec3List positions;
   std::vector<ObstacleShape> obstacles;
@@ -92,22 +102,14 @@ struct RenderSink::Output {
   double rasterizer_cpu0 = 0.0;
 };
 
-RenderSettings render_settings_of(const Scene& scene) {
-  if (scene.render.is_null()) return RenderSettings{};
-  try {
-    JsonReader reader(scene.render, "render");
-    return parse_render_settings(reader);
-  } catch (const InputError& e) {
-    throw scene_error(scene, e.what());
-  }
-}
-
 double frames_per_simulated_second(const RenderSettings& settings) {
   return settings.fps * settings.slow_motion;
 }
 
 RenderSink::RenderSink(const RenderSettings& settings, const RenderOutputs& outputs)
-    : settings_(settings), outputs_(outputs) {
+    : settings_(settings),
+      outputs_(outputs),
+      hold_frames_(!settings.camera.fixed() && settings.camera.framing == Framing::Run) {
   if (!outputs_.render_thread) {
     serial_ = std::make_unique<Output>();
     serial_->renderer = std::make_unique<Renderer>(settings_);
@@ -206,6 +208,7 @@ void RenderSink::render(Output& out, const Job& job) {
   content.positions = job.positions;
   content.obstacles = job.obstacles;
   content.overlay_lines = job.overlay_lines;
+  if (job.camera_fit) out.renderer->fit_camera(job.camera_fit->shown, job.camera_fit->obstacles);
 
   auto t0 = std::chrono::steady_clock::now();
   double c0 = thread_cpu_seconds();
@@ -275,6 +278,16 @@ void RenderSink::frame(const Model& model, const State& state, const FrameStats&
     job.png_paths.push_back(numbered_png(outputs_.stills_dir, frame_index_));
   }
 
+  ++frame_index_;
+  if (hold_frames_) {
+    shown_.extend(shown_bounds(job.positions, job.obstacles));
+    held_.push_back(std::move(job));
+    return;
+  }
+  submit(std::move(job));
+}
+
+void RenderSink::submit(Job&& job) {
   if (serial_) {
     render(*serial_, job);
   } else {
@@ -288,11 +301,33 @@ void RenderSink::frame(const Model& model, const State& state, const FrameStats&
     rethrow_error();
     job_ready_.notify_one();
   }
-  ++frame_index_;
+  ++frames_drawn_;
+}
+
+void RenderSink::draw_held_frames() {
+  if (held_.empty()) return;
+  auto fit = std::make_shared<CameraFit>();
+  fit->shown = shown_;
+  fit->obstacles = held_.front().obstacles;
+  held_.front().camera_fit = std::move(fit);
+  std::optional<ProgressBar> progress;
+  if (outputs_.progress) progress.emplace(ProgressBar::on_stderr("draw", held_.size()));
+  // An interrupt that stopped the simulation leaves its frames to draw; one that comes
+  // while they are drawn ends the video there.
+  const bool run_interrupted = interrupt_requested();
+  for (Job& job : held_) {
+    if (!run_interrupted && interrupt_requested()) break;
+    submit(std::move(job));
+    job = Job{};  // its memory goes back as the frames are drawn
+    if (progress) progress->update(frames_drawn_);
+  }
+  if (progress) progress->finish();
+  held_.clear();
 }
 
 void RenderSink::finish() {
   if (closed_) throw std::logic_error("RenderSink::finish: the sink is closed");
+  draw_held_frames();  // on error, the caller's abort() (or the destructor) cleans up
   closed_ = true;
   if (thread_.joinable()) {
     {

@@ -14,14 +14,11 @@
 #include <vector>
 
 #include "app/run_loop.h"
+#include "figure/scene_render_settings.h"
 #include "render/renderer.h"
 #include "video/frame_encoder_pipeline.h"
 
 namespace tissu {
-
-// The scene's render block, validated (defaults when the scene has none). Errors name the
-// scene file, or the --set override that set the value.
-RenderSettings render_settings_of(const Scene& scene);
 
 // Video frames per simulated second: fps * slow_motion.
 double frames_per_simulated_second(const RenderSettings& settings);
@@ -34,6 +31,7 @@ struct RenderOutputs {
   long long max_frames = -1;           // stop after this many frames; -1 = all
   bool render_thread = true;  // draw on a thread of its own (false: in frame(), on the caller's)
   bool pass_timing = false;   // profiling: time each renderer pass (slower); see pass_times()
+  bool progress = false;      // a progress line on stderr while held frames are drawn
 };
 
 // CPU time of the rendering, s (wall times are in StageTimes and RenderSink::wait_times()).
@@ -44,6 +42,9 @@ struct RenderCpuTimes {
   double thread_total = 0.0;  // the render thread, all of it (0 without a render thread)
 };
 
+// With the automatic camera framing the whole run (render.camera.framing "run", the
+// default), frames are held in memory until the run ends, then drawn: the camera then
+// frames everything the run shows, from the first frame on.
 class RenderSink : public FrameSink {
  public:
   // Creates the renderer (on the render thread) and the outputs. Throws RenderError or
@@ -53,14 +54,15 @@ class RenderSink : public FrameSink {
   RenderSink(const RenderSink&) = delete;
   RenderSink& operator=(const RenderSink&) = delete;
 
-  // Queues the frame (copies positions, obstacles and text) and returns; blocks while two
-  // frames wait to be drawn. Rethrows an error of the render thread or the encoder.
+  // Queues (or holds) the frame (copies positions, obstacles and text) and returns; blocks
+  // while two frames wait to be drawn. Rethrows an error of the render thread or the encoder.
   void frame(const Model& model, const State& state, const FrameStats& stats) override;
   bool wants_more() const override;
 
-  // Draws and encodes every frame queued so far (also after a divergence or an interrupt)
-  // and completes the video, which plays up to the last frame. Rethrows a render or
-  // encoder error (OutputError for files).
+  // Draws and encodes every frame queued or held so far (also after a divergence or an
+  // interrupt) and completes the video, which plays up to the last frame. An interrupt
+  // while held frames are drawn ends the video at the last frame drawn. Rethrows a render
+  // or encoder error (OutputError for files).
   void finish();
   // Drops queued frames, stops the render thread, removes the unfinished video. Never throws.
   void abort() noexcept;
@@ -69,6 +71,9 @@ class RenderSink : public FrameSink {
   // loop waited for a free place in the render queue (as encode_wait).
   void add_times(StageTimes& times) const;
   long long frames() const { return frame_index_; }
+  // Frames drawn into the outputs; fewer than frames() after an interrupt while drawing
+  // held frames. Valid after finish().
+  long long frames_drawn() const { return frames_drawn_; }
   // Valid after finish().
   RenderCpuTimes cpu_times() const { return cpu_; }
   double encoder_queue_wait_seconds() const { return encoder_wait_s_; }  // render thread, wall
@@ -78,11 +83,14 @@ class RenderSink : public FrameSink {
   struct Topology;
   struct Job;
   struct Output;
+  struct CameraFit;
 
   void render_thread_main();
   void render(Output& out, const Job& job);
   void end_output(Output& out) noexcept;
   void rethrow_error();
+  void submit(Job&& job);
+  void draw_held_frames();
 
   RenderSettings settings_;
   RenderOutputs outputs_;
@@ -91,6 +99,11 @@ class RenderSink : public FrameSink {
   std::shared_ptr<const Topology> topology_;
   long long frame_index_ = 0;   // frames queued
   double edge_length_ = 0.0;    // m, mean cloth edge length at the first frame
+  long long frames_drawn_ = 0;
+  // Framing the whole run: the frames held until it ends, and the bounds of what they show.
+  bool hold_frames_ = false;
+  std::vector<Job> held_;
+  Eigen::AlignedBox3d shown_;
   bool closed_ = false;         // finish() or abort() ran
 
   // Shared with the render thread.

@@ -97,6 +97,7 @@ int run_scene(const std::vector<std::string>& args, bool render) {
     // there anyway.
     if (options.max_frames > 0 && options.max_frames < frames) run.max_frames = options.max_frames;
     const long long shown = run.max_frames > 0 ? run.max_frames : frames;
+    outputs.progress = !options.quiet;
     if (options.mp4) outputs.mp4_path = (fs::path(options.out_dir) / (scene.name + ".mp4")).string();
     if (options.png) outputs.png_dir = (fs::path(options.out_dir) / "png").string();
     if (options.stills > 0) {
@@ -141,13 +142,19 @@ int run_scene(const std::vector<std::string>& args, bool render) {
     if (sink) {
       sink->finish();  // the video plays up to the last frame, also after a divergence
       sink->add_times(result.times);
+      if (sink->frames_drawn() < sink->frames()) {
+        // Interrupted while held frames were drawn: the outputs end at the last one drawn.
+        result.status = RunStatus::Interrupted;
+        result.frames.resize(std::min(result.frames.size(), static_cast<size_t>(sink->frames_drawn())));
+      }
     }
   } catch (...) {
     if (sink) sink->abort();
     throw;
   }
-  write_text_file(options.report_path, make_report(scene, sim.model, result).dump(1) + "\n");
+  nlohmann::ordered_json report = make_report(scene, sim.model, result);
   print_summary(scene, result, run.max_frames);
+  write_text_file(options.report_path, report.dump(1) + "\n");
   if (!options.quiet) {
     if (!outputs.mp4_path.empty()) std::cerr << "tissu: video: " << outputs.mp4_path << "\n";
     if (!outputs.stills_dir.empty()) std::cerr << "tissu: stills: " << outputs.stills_dir << "/\n";

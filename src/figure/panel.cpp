@@ -4,6 +4,8 @@
 #include <sstream>
 
 #include "figure/obstacle_shape.h"
+#include "figure/scene_render_settings.h"
+#include "render/scene_bounds.h"
 
 namespace tissu {
 
@@ -116,15 +118,7 @@ PanelRun run_panel(const Scene& scene, long long step_shown, long long frame_eve
 }
 
 RenderSettings panel_render_settings(const Scene& scene, int width, int height) {
-  RenderSettings settings;
-  if (!scene.render.is_null()) {
-    try {
-      JsonReader reader(scene.render, "render");
-      settings = parse_render_settings(reader);
-    } catch (const InputError& e) {
-      throw scene_error(scene, e.what());
-    }
-  }
+  RenderSettings settings = render_settings_of(scene);
   settings.width = width;
   settings.height = height;
   settings.caption.clear();
@@ -141,20 +135,17 @@ FrameContent panel_frame_content(const Model& model, const State& state) {
   return content;
 }
 
-Camera panel_camera(const RenderSettings& settings, const Model& model, const Vec3List& initial_x) {
+void fit_panel_camera(Renderer& renderer, const Model& model, const Vec3List& initial_x) {
   State first;
   first.x = initial_x;
   const FrameContent content = panel_frame_content(model, first);
-  std::optional<double> ground;
-  if (settings.ground) ground = settings.ground->height;
-  return auto_camera(content, static_cast<double>(settings.width) / settings.height,
-                     settings.camera, ground);
+  renderer.fit_camera(content_bounds(content), content.obstacles);
 }
 
 Image render_panel(const Scene& scene, const PanelRun& run, int width, int height) {
   const RenderSettings settings = panel_render_settings(scene, width, height);
   Renderer renderer(settings);
-  renderer.set_camera(panel_camera(settings, run.sim.model, run.initial_x));
+  fit_panel_camera(renderer, run.sim.model, run.initial_x);
   renderer.draw(panel_frame_content(run.sim.model, run.sim.state));
   Image image(width, height);
   renderer.read_rgb(image.rgb);

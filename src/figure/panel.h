@@ -46,9 +46,9 @@ RenderSettings panel_render_settings(const Scene& scene, int width, int height);
 // What a frame shows for `state`: the cloth and the obstacles at state.t.
 FrameContent panel_frame_content(const Model& model, const State& state);
 
-// The camera of a panel: the scene's, completed by automatic framing of `initial_x`
-// (the first frame, as `tissu render` does) so panels of one scene share a view.
-Camera panel_camera(const RenderSettings& settings, const Model& model, const Vec3List& initial_x);
+// Fixes the camera of a panel: the scene's, completed by automatic framing of `initial_x`
+// (the first frame) so that panels of one scene at different iterations share a view.
+void fit_panel_camera(Renderer& renderer, const Model& model, const Vec3List& initial_x);
 
 // Draws the state shown in `run` at `width` x `height`.
 Image render_panel(const Scene& scene, const PanelRun& run, int width, int height);

@@ -309,7 +309,7 @@ void timing(const PaperOptions& o, Report& r, long long iterations) {
       // Rendering, timed apart.
       RenderSettings settings = panel_render_settings(l.scene, 1280, 720);
       Renderer renderer(settings);
-      renderer.set_camera(panel_camera(settings, model, l.sim.state.x));
+      fit_panel_camera(renderer, model, l.sim.state.x);
       std::vector<uint8_t> rgb;
       const auto t0 = Clock::now();
       for (const State& s : frames) {

@@ -46,11 +46,16 @@ double fitting_distance(const std::vector<Vec3>& points, const Vec3& target, con
 
 Camera auto_camera(const FrameContent& content, double aspect, const CameraSettings& settings,
                    std::optional<double> ground_height) {
-  Box3 box = content_bounds(content);
+  return auto_camera(content_bounds(content), content.obstacles, aspect, settings, ground_height);
+}
+
+Camera auto_camera(const Box3& shown, const std::vector<ObstacleShape>& obstacles, double aspect,
+                   const CameraSettings& settings, std::optional<double> ground_height) {
+  Box3 box = shown;
   if (box.isEmpty()) box = Box3(Vec3::Constant(-0.5), Vec3::Constant(0.5));
   // Stretch the box down to planes and ground below it, where cloth will land.
   std::vector<Vec3> points = box_corners(box);
-  for (const ObstacleShape& o : content.obstacles) {
+  for (const ObstacleShape& o : obstacles) {
     if (o.kind != ObstacleShape::Kind::Plane) continue;
     const Vec3 n = o.axis.normalized();
     for (const Vec3& c : box_corners(box)) {

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "render/up_axis.h"
+
 namespace tissu {
 
 namespace {
@@ -62,8 +64,9 @@ Background read_background(JsonReader& r) {
   return background;
 }
 
-CameraSettings read_camera(JsonReader& r) {
+CameraSettings read_camera(JsonReader& r, const Vec3& up) {
   CameraSettings camera;
+  camera.up = up;
   r.accept("camera");
   if (!r.has("camera")) return camera;
   JsonReader c = r.object("camera");
@@ -73,6 +76,7 @@ CameraSettings read_camera(JsonReader& r) {
   c.accept("target");
   camera.up = read_nonzero_direction(c, "up", camera.up);
   camera.fov_deg = c.number("fov", camera.fov_deg, Range{0.0, 170.0, true, false});
+  camera.framing = c.choice("framing", {"run", "first"}, "run") == "run" ? Framing::Run : Framing::First;
   c.finish();
   if (camera.fixed()) {
     const Vec3 view = *camera.target - *camera.eye;
@@ -86,9 +90,14 @@ CameraSettings read_camera(JsonReader& r) {
   return camera;
 }
 
-std::vector<Light> read_lights(JsonReader& r) {
+std::vector<Light> read_lights(JsonReader& r, const Vec3& up) {
   r.accept("lights");
-  if (!r.has("lights")) return RenderSettings::default_lights();
+  if (!r.has("lights")) {  // placed for z up: turned to the scene's up
+    std::vector<Light> lights = RenderSettings::default_lights();
+    const Mat3 to_scene = rotation_up_to_z(up).transpose();
+    for (Light& light : lights) light.direction = to_scene * light.direction;
+    return lights;
+  }
   const Json& list = r.raw("lights");
   const std::string path = r.path_of("lights");
   if (!list.is_array()) throw InputError(path + ": must be an array of light objects");
@@ -148,8 +157,14 @@ std::vector<Light> RenderSettings::default_lights() {
   return {key, fill};
 }
 
-RenderSettings parse_render_settings(JsonReader& render) {
+Vec3 up_from_gravity(const std::optional<Vec3>& gravity) {
+  if (!gravity || gravity->norm() < 1e-12) return Vec3::UnitZ();
+  return -gravity->normalized();
+}
+
+RenderSettings parse_render_settings(JsonReader& render, const Vec3& scene_up) {
   RenderSettings s;
+  s.up = read_nonzero_direction(render, "up", scene_up).normalized();
   s.width = read_even_size(render, "width", s.width);
   s.height = read_even_size(render, "height", s.height);
   s.msaa = static_cast<int>(render.integer("msaa", s.msaa, Range::any()));
@@ -164,8 +179,8 @@ RenderSettings parse_render_settings(JsonReader& render) {
   }
   s.slow_motion = render.number("slow_motion", s.slow_motion, Range{1.0, 1e300, false, false});
   s.background = read_background(render);
-  s.camera = read_camera(render);
-  s.lights = read_lights(render);
+  s.camera = read_camera(render, s.up);
+  s.lights = read_lights(render, s.up);
   s.cloth = read_cloth(render);
   s.ground = read_ground(render);
   s.caption = render.string("caption", s.caption);

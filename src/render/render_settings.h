@@ -35,7 +35,7 @@ struct ClothLook {
 };
 
 struct Ground {
-  double height = 0.0;  // z of the ground plane (m)
+  double height = 0.0;  // of the ground plane along RenderSettings::up (m): z with z up
   Vec3 color = Vec3(0.56, 0.56, 0.53);
   bool shadow = true;   // shadow of the cloth and obstacles from the first (key) light
 };
@@ -52,14 +52,22 @@ struct RenderSettings {
   std::vector<Light> lights = default_lights();
   ClothLook cloth;
   std::optional<Ground> ground;     // absent = no ground
+  // Up for the camera, the ground and the default lights: render.up, else minus the
+  // scene's gravity, else +z. Unit, in the scene's coordinates.
+  Vec3 up = Vec3::UnitZ();
   std::string caption;              // drawn centred at the top; empty = none
   bool info = false;                // corner text: integrator, triangle count, time
 
   static std::vector<Light> default_lights();
 };
 
-// Reads a "render" block (every key optional). Throws InputError
+// Reads a "render" block (every key optional). `scene_up` is the scene's up when the block
+// gives none (minus gravity). Camera, lights and ground given in the block are in the
+// scene's coordinates; the default lights and camera up follow `up`. Throws InputError
 // "<json path>: <problem>" for bad values and unknown keys (finish() is called).
-RenderSettings parse_render_settings(JsonReader& render);
+RenderSettings parse_render_settings(JsonReader& render, const Vec3& scene_up = Vec3::UnitZ());
+
+// Up for a scene whose gravity is `gravity` (m/s^2): -gravity, or +z without gravity.
+Vec3 up_from_gravity(const std::optional<Vec3>& gravity);
 
 }  // namespace tissu

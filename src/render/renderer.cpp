@@ -16,6 +16,7 @@
 #include "render/shader_program.h"
 #include "render/shadow_map.h"
 #include "render/text_overlay.h"
+#include "render/up_axis.h"
 #include "render/view_math.h"
 
 namespace tissu {
@@ -172,6 +173,10 @@ struct Renderer::Impl {
   std::map<std::shared_ptr<const Vec3List>, std::unique_ptr<MeshBuffer>> surfaces;
   std::unique_ptr<ShadowMap> shadow_map;
   std::optional<Camera> camera;
+  // From the scene's coordinates to the renderer's (z up); `settings` are already turned.
+  Mat3 to_render = Mat3::Identity();
+  bool turning = false;
+  FrameContent turned_content;  // the frame in the renderer's coordinates, when turning
   // Reused between frames.
   std::vector<MeshVertex> corners;
   std::vector<ClothVertex> vertices;
@@ -501,17 +506,43 @@ void Renderer::Impl::draw_cloth() {
   draw_cloth_geometry();
 }
 
-Renderer::Renderer(const RenderSettings& settings, const std::string& shader_dir_override)
-    : impl_(std::make_unique<Impl>(settings, shader_dir_override)) {}
+Renderer::Renderer(const RenderSettings& settings, const std::string& shader_dir_override) {
+  const Mat3 to_render = rotation_up_to_z(settings.up);
+  impl_ = std::make_unique<Impl>(turned(settings, to_render), shader_dir_override);
+  impl_->to_render = to_render;
+  impl_->turning = !is_identity(to_render);
+}
 
 Renderer::~Renderer() {
   impl_->context.make_current();  // GL objects are deleted in their own context
 }
 
-void Renderer::set_camera(const Camera& camera) { impl_->camera = camera; }
-const std::optional<Camera>& Renderer::camera() const { return impl_->camera; }
+void Renderer::set_camera(const Camera& camera) { impl_->camera = turned(camera, impl_->to_render); }
 
-void Renderer::draw(const FrameContent& content) { impl_->draw(content); }
+std::optional<Camera> Renderer::camera() const {
+  if (!impl_->camera) return std::nullopt;
+  return turned(*impl_->camera, impl_->to_render.transpose());
+}
+
+void Renderer::fit_camera(const Box3& shown, const std::vector<ObstacleShape>& obstacles) {
+  Box3 box;
+  if (!shown.isEmpty()) {
+    for (const Vec3& corner : box_corners(shown)) box.extend(impl_->to_render * corner);
+  }
+  std::vector<ObstacleShape> planes;
+  for (const ObstacleShape& o : obstacles) {
+    if (o.kind == ObstacleShape::Kind::Plane) planes.push_back(turned(o, impl_->to_render));
+  }
+  std::optional<double> ground_height;
+  if (impl_->settings.ground) ground_height = impl_->settings.ground->height;
+  impl_->camera = auto_camera(box, planes, impl_->aspect(), impl_->settings.camera, ground_height);
+}
+
+void Renderer::draw(const FrameContent& content) {
+  if (!impl_->turning) return impl_->draw(content);
+  turn_content(content, impl_->to_render, impl_->turned_content);
+  impl_->draw(impl_->turned_content);
+}
 
 void Renderer::read_rgb(std::vector<uint8_t>& out) {
   if (!impl_->has_frame) throw RenderError("renderer: read_rgb() called before draw()");

@@ -32,10 +32,15 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Fixes the camera. Without it (and without eye and target in the settings) the
-  // first draw() frames its content with auto_camera and keeps that camera.
+  // Fixes the camera (in the scene's coordinates, like everything given to the renderer).
+  // Without it, fit_camera() or eye and target in the settings, the first draw() frames
+  // its content with auto_camera and keeps that camera.
   void set_camera(const Camera& camera);
-  const std::optional<Camera>& camera() const;
+  std::optional<Camera> camera() const;
+  // Fixes the automatic camera that frames `shown` (the bounds of what a run shows: cloth
+  // and finite obstacles, all frames) with the plane `obstacles`; keeps the settings' eye
+  // or target when given.
+  void fit_camera(const Eigen::AlignedBox3d& shown, const std::vector<ObstacleShape>& obstacles);
 
   void draw(const FrameContent& content);
   // The last frame drawn: width*height*3 bytes, RGB, first row at the top.

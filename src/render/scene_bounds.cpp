@@ -5,11 +5,15 @@
 namespace tissu {
 
 Box3 content_bounds(const FrameContent& content) {
+  return shown_bounds(content.positions, content.obstacles);
+}
+
+Box3 shown_bounds(const Vec3List& positions, const std::vector<ObstacleShape>& obstacles) {
   Box3 box;  // starts empty
-  for (const Vec3& p : content.positions) {
+  for (const Vec3& p : positions) {
     if (p.allFinite()) box.extend(p);  // a diverging simulation must not wreck the view
   }
-  for (const ObstacleShape& o : content.obstacles) {
+  for (const ObstacleShape& o : obstacles) {
     if (o.kind == ObstacleShape::Kind::Sphere) {
       box.extend(o.center - Vec3::Constant(o.radius));
       box.extend(o.center + Vec3::Constant(o.radius));

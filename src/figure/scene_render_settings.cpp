@@ -1,0 +1,15 @@
+#include "figure/scene_render_settings.h"
+
+namespace tissu {
+
+RenderSettings render_settings_of(const Scene& scene) {
+  const Json none = Json::object();
+  try {
+    JsonReader reader(scene.render.is_null() ? none : scene.render, "render");
+    return parse_render_settings(reader, up_from_gravity(scene.gravity));
+  } catch (const InputError& e) {
+    throw scene_error(scene, e.what());
+  }
+}
+
+}  // namespace tissu
