@@ -6,6 +6,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/divergence_hint.h"
 #include "app/earlier_outputs.h"
 #include "app/render_sink.h"
 #include "app/report.h"
@@ -154,6 +155,19 @@ int run_scene(const std::vector<std::string>& args, bool render) {
   }
   nlohmann::ordered_json report = make_report(scene, sim.model, result);
   print_summary(scene, result, run.max_frames);
+  if (result.divergence) {
+    if (!options.quiet) std::cerr << "tissu: " << scene.name << ": looking for a step that works\n";
+    const DivergenceHint hint = find_divergence_hint(scene, build_simulation(scene),
+                                                     *result.divergence, options.overrides);
+    const std::string text = divergence_hint_text(hint);
+    std::cerr << "tissu: " << scene.name << ": " << text << "\n";
+    report["divergence"]["hint"] = {
+        {"working_dt", hint.working_dt ? nlohmann::ordered_json(*hint.working_dt) : nullptr},
+        {"checked_until", hint.checked_until},
+        {"smallest_failed_dt", hint.smallest_failed_dt},
+        {"stability_command", hint.stability_command},
+        {"text", text}};
+  }
   write_text_file(options.report_path, report.dump(1) + "\n");
   if (!options.quiet) {
     if (!outputs.mp4_path.empty()) std::cerr << "tissu: video: " << outputs.mp4_path << "\n";

@@ -188,6 +188,30 @@ TEST_F(Cli, DivergenceExitsThreeWithStepAndVertex) {
   EXPECT_TRUE(fs::exists(out / "obj" / "final.obj"));
 }
 
+// The divergence message points at a step that works, and that step does work: the same
+// scene run with it gets past the time the hint checked.
+TEST_F(Cli, DivergenceHintGivesAStepThatRuns) {
+  Json scene = small_scene();
+  scene["dt"] = 2e-3;  // far beyond symplectic Euler's limit on silk
+  scene["steps"] = 100;
+  const std::string path = write_scene("d.json", scene);
+  Result r = run("run " + path + " --out " + (dir_ / "a").string() + " --quiet");
+  ASSERT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("without diverging"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("tissu stability " + path + " --integrators symplectic_euler"),
+            std::string::npos) << r.err;
+  const Json hint = read_json(dir_ / "a" / "report.json")["divergence"]["hint"];
+  ASSERT_TRUE(hint["working_dt"].is_number()) << hint.dump();
+  const double dt = hint["working_dt"].get<double>();
+  const double until = hint["checked_until"].get<double>();
+  EXPECT_LT(dt, 2e-3);
+  EXPECT_GE(hint["smallest_failed_dt"].get<double>(), 2 * dt * 0.999);
+  const long long steps = static_cast<long long>(std::ceil(until / dt - 1e-9));
+  r = run("run " + path + " --out " + (dir_ / "b").string() + " --quiet --set dt=" +
+          std::to_string(dt) + " --set steps=" + std::to_string(steps));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 TEST_F(Cli, SigintStopsTheRunAndReportsInterrupted) {
   Json scene = small_scene();
   scene["steps"] = 100000000;
