@@ -1,5 +1,5 @@
 // tissu paper: runs the experiments of the paper's section 4 and writes
-// docs/paper-results.md and docs/paper-results.csv (see src/figure/paper_experiments.h).
+// DIR/paper-results.md and DIR/paper-results.csv (see src/figure/paper_experiments.h).
 #include <iostream>
 
 #include "app/cli.h"
@@ -19,7 +19,7 @@ const char* kUsage =
     "with the time step, stiffness and correction settings), distance from a converged\n"
     "reference, free fall, and the cloth hung at 3 points. Takes a few minutes.\n"
     "  --scenes DIR   the paper scenes (default scenes/paper)\n"
-    "  --out DIR      where to write (default docs)\n"
+    "  --out DIR      where to write (default out/paper; docs/ holds the published run)\n"
     "  --repeats N    timed runs per case; fastest and median reported (default 5)\n"
     "  --quick        fewer iterations and cells: checks the command, not the results\n"
     "  --quiet        no progress lines\n"

@@ -18,7 +18,7 @@ const char* kHelp =
     "  study SCENE.json    error against cost of every integrator over a ladder of time steps\n"
     "  stability SCENE.json...  largest stable time step of every integrator (bisection)\n"
     "  figure FIGURE.json...  render figure files (panels of runs, with captions) to PNG\n"
-    "  paper               run the paper's experiments; write docs/paper-results.md/.csv\n"
+    "  paper               run the paper's experiments; write out/paper/paper-results.md/.csv\n"
     "  compare A B         compare two PNGs, frame directories or MP4s within a tolerance\n"
     "  help                show this help\n"
     "Run `tissu <command> --help` for the options of a command.\n";

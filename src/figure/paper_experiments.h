@@ -17,7 +17,7 @@ namespace tissu {
 
 struct PaperOptions {
   std::string scenes_dir = "scenes/paper";  // tissu1.json, tissu2.json, piece990.json, hung3.json
-  std::string out_dir = "docs";             // paper-results.md and paper-results.csv
+  std::string out_dir = "out/paper";        // paper-results.md and paper-results.csv
   std::string command_line;                 // shown in the generated document
   bool quick = false;   // fewer iterations and table cells: checks the command, not the results
   int repeats = 5;      // timed runs per case (the fastest and the median are reported)

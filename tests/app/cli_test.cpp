@@ -562,3 +562,15 @@ TEST_F(Cli, ReportHoldsWhatReproducesTheRun) {
     EXPECT_EQ(report2["end"][energy], report["end"][energy]) << energy;
   }
 }
+
+// tissu paper writes under out/ by default: the published results in docs/ change only
+// when asked (--out docs).
+TEST_F(Cli, PaperWritesUnderOutByDefault) {
+  const std::string scenes = std::string(TISSU_SOURCE_DIR) + "/scenes/paper";
+  const std::string command = "cd " + dir_.string() + " && " + TISSU_BINARY +
+                              " paper --quick --quiet --scenes " + scenes + " 2> err.txt";
+  ASSERT_EQ(std::system(command.c_str()), 0) << read_text(dir_ / "err.txt");
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "paper" / "paper-results.md"));
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "paper" / "paper-results.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "docs"));
+}
