@@ -22,6 +22,7 @@ PACKAGES=(
   fonts-dejavu-core      # caption font
   ffmpeg                 # ffprobe, used by tests to check videos decode
   clang libclang-rt-14-dev  # libFuzzer and sanitizers for scripts/fuzz.sh
+  slurm-wlm munge        # the one-node cluster of the slurm batch test (scripts/slurm-test-cluster.sh)
 )
 
 missing=()
