@@ -1,0 +1,192 @@
+#include "app/batch_plan.h"
+
+#include <unistd.h>
+
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli.h"
+#include "app/report.h"
+#include "core/error.h"
+
+namespace tissu {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Ordered = nlohmann::ordered_json;
+
+std::optional<nlohmann::json> read_json_file(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
+}
+
+Ordered plan_json(const BatchPlan& plan) {
+  Ordered jobs = Ordered::array();
+  for (const PlannedJob& j : plan.jobs) {
+    jobs.push_back({{"name", j.name}, {"overrides", j.overrides}, {"args", j.args}});
+  }
+  const SlurmResources& s = plan.slurm;
+  return {{"batch_file", plan.batch_file}, {"name", plan.name}, {"hash", plan.hash},
+          {"produce", plan.produce}, {"stills", plan.stills},
+          {"slurm", {{"cpus_per_task", s.cpus_per_task}, {"mem", s.mem}, {"time", s.time},
+                     {"partition", s.partition}, {"account", s.account}, {"sbatch", s.extra}}},
+          {"jobs", jobs}};
+}
+
+}  // namespace
+
+std::string BatchPlan::job_dir(size_t i) const {
+  return (fs::path(dir) / "jobs" / jobs.at(i).name).string();
+}
+
+std::string BatchPlan::plan_path() const { return (fs::path(dir) / "batch.json").string(); }
+
+BatchPlan plan_batch(const BatchSpec& batch, const std::string& dir) {
+  BatchPlan plan;
+  plan.dir = fs::absolute(dir).lexically_normal().string();
+  if (plan.dir.size() > 1 && plan.dir.back() == '/') plan.dir.pop_back();
+  plan.batch_file = fs::absolute(batch.file).lexically_normal().string();
+  plan.name = batch.name;
+  plan.hash = batch.hash;
+  plan.produce = batch.produce;
+  plan.stills = batch.stills;
+  plan.slurm = batch.slurm;
+  for (const BatchJob& job : batch.jobs) {
+    PlannedJob p;
+    p.name = job.name;
+    for (const JobOverride& o : job.overrides) p.overrides.push_back(o.assignment());
+    plan.jobs.push_back(p);
+  }
+  for (size_t i = 0; i < plan.jobs.size(); ++i) {
+    plan.jobs[i].args = job_arguments(batch, batch.jobs[i], plan.job_dir(i));
+  }
+  return plan;
+}
+
+void claim_batch_dir(const BatchPlan& plan) {
+  std::error_code ec;
+  const fs::path stamp = plan.plan_path();
+  if (fs::exists(stamp, ec)) {
+    const auto earlier = read_json_file(stamp);
+    const std::string hash = earlier && earlier->contains("hash") && (*earlier)["hash"].is_string()
+                                 ? (*earlier)["hash"].get<std::string>()
+                                 : "";
+    if (hash != plan.hash) {
+      const std::string other = earlier && earlier->value("batch_file", "") != ""
+                                    ? (*earlier)["batch_file"].get<std::string>()
+                                    : "an unreadable batch.json";
+      throw InputError(plan.dir + ": holds the outputs of another batch (" + other +
+                       "); give another --out directory, or remove this one");
+    }
+  } else if (fs::exists(plan.dir, ec) && !(fs::is_directory(plan.dir, ec) && fs::is_empty(plan.dir, ec))) {
+    throw InputError(plan.dir + ": exists and is not a batch directory (no batch.json); "
+                     "give a new or empty --out directory");
+  }
+  prepare_output_dir(plan.dir);
+  for (size_t i = 0; i < plan.jobs.size(); ++i) prepare_output_dir(plan.job_dir(i));
+  write_text_file(plan.plan_path(), plan_json(plan).dump(1) + "\n");
+}
+
+BatchPlan read_batch_plan(const std::string& dir) {
+  BatchPlan plan;
+  plan.dir = fs::absolute(dir).lexically_normal().string();
+  if (plan.dir.size() > 1 && plan.dir.back() == '/') plan.dir.pop_back();
+  const auto doc = read_json_file(plan.plan_path());
+  if (!doc) throw InputError(plan.dir + ": not a batch directory (no readable batch.json)");
+  try {
+    plan.batch_file = doc->at("batch_file").get<std::string>();
+    plan.name = doc->at("name").get<std::string>();
+    plan.hash = doc->at("hash").get<std::string>();
+    plan.produce = doc->at("produce").get<std::string>();
+    plan.stills = doc->at("stills").get<int>();
+    const auto& s = doc->at("slurm");
+    plan.slurm.cpus_per_task = s.at("cpus_per_task").get<int>();
+    plan.slurm.mem = s.at("mem").get<std::string>();
+    plan.slurm.time = s.at("time").get<std::string>();
+    plan.slurm.partition = s.at("partition").get<std::string>();
+    plan.slurm.account = s.at("account").get<std::string>();
+    plan.slurm.extra = s.at("sbatch").get<std::vector<std::string>>();
+    for (const auto& j : doc->at("jobs")) {
+      plan.jobs.push_back({j.at("name").get<std::string>(),
+                           j.at("overrides").get<std::vector<std::string>>(),
+                           j.at("args").get<std::vector<std::string>>()});
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(plan.plan_path() + ": not a batch plan: " + e.what());
+  }
+  return plan;
+}
+
+JobState read_job_state(const BatchPlan& plan, size_t i) {
+  JobState s;
+  const auto doc = read_json_file(fs::path(plan.job_dir(i)) / "state.json");
+  if (!doc || !doc->is_object()) return s;
+  s.status = doc->value("status", "pending");
+  s.exit_code = doc->value("exit_code", -1);
+  s.error = doc->value("error", "");
+  s.started = doc->value("started", "");
+  s.finished = doc->value("finished", "");
+  s.wall_s = doc->value("wall_s", 0.0);
+  s.host = doc->value("host", "");
+  s.executor = doc->value("executor", "");
+  return s;
+}
+
+void write_job_state(const BatchPlan& plan, size_t i, const JobState& s) {
+  const Ordered doc = {{"job", plan.jobs.at(i).name}, {"status", s.status},
+                       {"exit_code", s.exit_code},    {"error", s.error},
+                       {"started", s.started},        {"finished", s.finished},
+                       {"wall_s", s.wall_s},          {"host", s.host},
+                       {"executor", s.executor},      {"batch_hash", plan.hash}};
+  write_text_file((fs::path(plan.job_dir(i)) / "state.json").string(), doc.dump(1) + "\n");
+}
+
+bool job_complete(const BatchPlan& plan, size_t i) {
+  if (read_job_state(plan, i).status != "done") return false;
+  const fs::path dir = plan.job_dir(i);
+  const auto report = read_json_file(dir / "report.json");
+  if (!report || !report->is_object()) return false;
+  const std::string status = report->value("status", "");
+  if (status != "ok" && status != "stopped") return false;
+  std::error_code ec;
+  if (plan.stills > 0) {
+    int stills = 0;
+    for (const auto& e : fs::directory_iterator(dir / "stills", ec)) {
+      if (e.path().extension() == ".png") ++stills;
+    }
+    if (stills < plan.stills) return false;
+  }
+  if (plan.produce == "render") {
+    bool mp4 = false;
+    for (const auto& e : fs::directory_iterator(dir, ec)) mp4 |= e.path().extension() == ".mp4";
+    if (!mp4) return false;
+  }
+  return true;
+}
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char out[32];
+  std::strftime(out, sizeof out, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return out;
+}
+
+std::string host_name() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return "";
+  return name;
+}
+
+}  // namespace tissu
