@@ -13,6 +13,7 @@ int command_stability(const std::vector<std::string>& args);
 int command_figure(const std::vector<std::string>& args);
 int command_paper(const std::vector<std::string>& args);
 int command_compare(const std::vector<std::string>& args);
+int command_batch(const std::vector<std::string>& args);
 
 // Exit code of a finished run.
 constexpr int kExitOk = 0;

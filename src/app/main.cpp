@@ -20,6 +20,7 @@ const char* kHelp =
     "  figure FIGURE.json...  render figure files (panels of runs, with captions) to PNG\n"
     "  paper               run the paper's experiments; write out/paper/paper-results.md/.csv\n"
     "  compare A B         compare two PNGs, frame directories or MP4s within a tolerance\n"
+    "  batch BATCH.json    run a batch of scenes (a sweep of overrides) here or on Slurm\n"
     "  help                show this help\n"
     "Run `tissu <command> --help` for the options of a command.\n";
 
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
     if (args[0] == "figure") return command_figure(rest);
     if (args[0] == "paper") return command_paper(rest);
     if (args[0] == "compare") return command_compare(rest);
+    if (args[0] == "batch") return command_batch(rest);
     std::cerr << "tissu: unknown command \"" << args[0] << "\" (see tissu --help)\n";
     return kExitBadInput;
   } catch (const UsageError& e) {
