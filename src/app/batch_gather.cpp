@@ -116,9 +116,14 @@ std::string md_cell(const std::string& text) {
   return out;
 }
 
-std::vector<fs::path> stills_of(const fs::path& job_dir) {
+// A job's pictures for the contact sheet: its stills, or its figure.
+std::vector<fs::path> stills_of(const fs::path& job_dir, bool figure) {
   std::vector<fs::path> out;
   std::error_code ec;
+  if (figure) {
+    if (fs::is_regular_file(job_dir / "figure.png", ec)) out.push_back(job_dir / "figure.png");
+    return out;
+  }
   for (const auto& e : fs::directory_iterator(job_dir / "stills", ec)) {
     if (e.path().extension() == ".png") out.push_back(e.path());
   }
@@ -168,7 +173,7 @@ void write_contact_sheet(const BatchPlan& plan, const std::vector<JobState>& sta
   std::vector<std::vector<fs::path>> stills;
   int w = 0, h = 0;
   for (size_t i = 0; i < plan.jobs.size(); ++i) {
-    stills.push_back(stills_of(plan.job_dir(i)));
+    stills.push_back(stills_of(plan.job_dir(i), plan.produce == "figure"));
     if (w == 0 && !stills.back().empty()) {
       const Image first = read_png(stills.back().front().string());
       w = first.width;
@@ -176,7 +181,7 @@ void write_contact_sheet(const BatchPlan& plan, const std::vector<JobState>& sta
     }
   }
   if (w == 0) return;
-  const int per_job = plan.stills;
+  const int per_job = plan.produce == "figure" ? 1 : plan.stills;
   std::vector<Image> panels;
   std::vector<std::string> captions;
   for (size_t i = 0; i < plan.jobs.size(); ++i) {
@@ -253,10 +258,11 @@ GatherCounts gather_batch(const BatchPlan& plan) {
     for (const std::string& cell : row) md << "| " << md_cell(cell) << " ";
     md << "|\n";
   }
-  if (plan.stills > 0) md << "\nContact sheet: contact_sheet.png\n";
+  const bool pictures = plan.stills > 0 || plan.produce == "figure";
+  if (pictures) md << "\nContact sheet: contact_sheet.png\n";
   write_text_file((fs::path(plan.dir) / "summary.md").string(), md.str());
 
-  if (plan.stills > 0) write_contact_sheet(plan, states);
+  if (pictures) write_contact_sheet(plan, states);
   return counts;
 }
 

@@ -154,11 +154,14 @@ void write_job_state(const BatchPlan& plan, size_t i, const JobState& s) {
 bool job_complete(const BatchPlan& plan, size_t i) {
   if (read_job_state(plan, i).status != "done") return false;
   const fs::path dir = plan.job_dir(i);
+  std::error_code ec;
+  if (plan.produce == "figure") {
+    return fs::is_regular_file(dir / "figure.png", ec) && fs::is_regular_file(dir / "figure.report.json", ec);
+  }
   const auto report = read_json_file(dir / "report.json");
   if (!report || !report->is_object()) return false;
   const std::string status = report->value("status", "");
   if (status != "ok" && status != "stopped") return false;
-  std::error_code ec;
   if (plan.stills > 0) {
     int stills = 0;
     for (const auto& e : fs::directory_iterator(dir / "stills", ec)) {

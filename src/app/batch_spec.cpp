@@ -128,7 +128,20 @@ BatchSpec parse_batch(const Json& doc, const Ordered& ordered, const std::string
   if (!doc.is_object()) throw InputError("expected a JSON object (see docs/batch.md)");
   JsonReader r(doc, "");
   b.name = r.string("name", fs::path(file).stem().string());
-  b.produce = r.choice("produce", {"run", "render", "stills"}, "render");
+  const bool has_figures = doc.contains("figures");
+  b.produce = r.choice("produce", {"run", "render", "stills", "figure"}, has_figures ? "figure" : "render");
+  if ((b.produce == "figure") != has_figures) {
+    throw InputError(has_figures ? r.path_of("produce") + ": a list of \"figures\" produces \"figure\""
+                                 : r.path_of("produce") + ": \"figure\" needs \"figures\", a list of figure files");
+  }
+  if (has_figures && b.produce == "figure") {
+    for (const char* key : {"scene", "scenes", "set", "grid", "list", "stills", "frames", "threads"}) {
+      if (doc.contains(key)) {
+        throw InputError(std::string(key) + ": a list of \"figures\" takes no \"" + key +
+                         "\" (a figure file names its own scenes)");
+      }
+    }
+  }
   b.stills = static_cast<int>(r.integer("stills", b.produce == "stills" ? 4 : 0, Range::between(0, 1000)));
   if (b.produce == "stills" && b.stills == 0) {
     throw InputError(r.path_of("stills") + ": produce \"stills\" needs at least one still");
@@ -139,8 +152,21 @@ BatchSpec parse_batch(const Json& doc, const Ordered& ordered, const std::string
   b.frames = r.integer("frames", 0, Range::between(0, 1e12));
   b.threads = static_cast<int>(r.integer("threads", 1, Range::between(1, 256)));
   read_slurm(r, b.slurm);
-  for (const char* key : {"scene", "scenes", "set", "grid", "list"}) r.accept(key);
+  for (const char* key : {"scene", "scenes", "set", "grid", "list", "figures"}) r.accept(key);
   r.finish();
+
+  if (has_figures) {
+    const Ordered& figures = ordered["figures"];
+    if (!figures.is_array() || figures.empty()) throw InputError("figures: expected a non-empty list of figure files");
+    for (size_t i = 0; i < figures.size(); ++i) {
+      if (!figures[i].is_string()) throw InputError(element_path("figures", i) + ": expected a figure file name");
+      const std::string figure = absolute_next_to(figures[i].get<std::string>(), file);
+      b.jobs.push_back({name_part(fs::path(figure).stem().string()), figure, {}});
+    }
+    make_names_unique(b.jobs);
+    b.hash = fnv1a_hex(doc.dump());
+    return b;
+  }
 
   const bool has_scene = doc.contains("scene"), has_scenes = doc.contains("scenes");
   if (has_scene == has_scenes) {
@@ -242,6 +268,10 @@ BatchSpec read_batch_file(const std::string& file) {
 
 std::vector<std::string> job_arguments(const BatchSpec& batch, const BatchJob& job,
                                        const std::string& job_dir) {
+  if (batch.produce == "figure") {
+    // The figure file is the job's scene_file; its image is DIR/jobs/<name>/figure.png.
+    return {"figure", job.scene_file, "--out", job_dir + "/figure.png", "--quiet"};
+  }
   std::vector<std::string> args{batch.produce == "run" ? "run" : "render", job.scene_file,
                                 "--out", job_dir, "--overwrite", "--quiet",
                                 "--threads", std::to_string(batch.threads)};

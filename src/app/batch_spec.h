@@ -19,7 +19,7 @@ struct JobOverride {
 
 struct BatchJob {
   std::string name;        // the directory name under DIR/jobs/, unique in the batch
-  std::string scene_file;  // absolute
+  std::string scene_file;  // absolute (the figure file of a "figure" job)
   std::vector<JobOverride> overrides;  // the batch's own, then the job's
 };
 
@@ -36,7 +36,8 @@ struct SlurmResources {
 struct BatchSpec {
   std::string file;  // the batch file as given
   std::string name;  // "name", else the file's stem
-  std::string produce = "render";  // "run", "render" (MP4) or "stills" (no MP4)
+  // "run", "render" (MP4), "stills" (no MP4) or "figure" (tissu figure of a figure file)
+  std::string produce = "render";
   int stills = 0;                  // stills per job (render, stills)
   long long frames = 0;            // --frames N for render; 0 = every frame
   int threads = 1;                 // --threads of each job

@@ -38,7 +38,9 @@ class Batch : public tissu::test::TempDirTest {
   }
 
   std::string write_batch(const std::string& name, Json batch) {
-    if (!batch.contains("scene") && !batch.contains("scenes")) batch["scene"] = "fall.json";
+    if (!batch.contains("scene") && !batch.contains("scenes") && !batch.contains("figures")) {
+      batch["scene"] = "fall.json";
+    }
     const fs::path path = dir_ / name;
     std::ofstream(path) << batch.dump(2);
     return path.string();
@@ -276,6 +278,33 @@ TEST_F(Batch, RenderJobsWriteVideoAndStills) {
   ASSERT_EQ(again.exit_code, 0) << again.err;
   EXPECT_NE(again.err.find("0 complete (skipped), 1 to run"), std::string::npos) << again.err;
   EXPECT_TRUE(fs::exists(out / "jobs" / "dt-0.002" / "fall.mp4"));
+}
+
+TEST_F(Batch, FiguresAreJobsToo) {
+  for (const char* name : {"one", "two"}) {
+    std::ofstream(dir_ / (std::string(name) + ".json")) << R"({
+      "title": "A small figure", "columns": 1, "panel_size": [64, 48],
+      "panels": [{"scene": "fall.json", "step": 5, "caption": "{name}"}]
+    })";
+  }
+  const std::string file = write_batch("b.json", {{"figures", {"one.json", "two.json"}}});
+  const fs::path out = dir_ / "out";
+  const auto r = batch(file, out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(job_names(out), (std::vector<std::string>{"one", "two"}));
+  const tissu::Image figure = tissu::read_png((out / "jobs" / "one" / "figure.png").string());
+  EXPECT_GT(figure.width, 64);
+  EXPECT_TRUE(fs::exists(out / "jobs" / "two" / "figure.report.json"));
+  const tissu::Image sheet = tissu::read_png((out / "contact_sheet.png").string());
+  EXPECT_GT(sheet.width, 2 * figure.width);  // the two figures side by side
+  const auto again = batch(file, out);
+  EXPECT_NE(again.err.find("2 complete (skipped), 0 to run"), std::string::npos) << again.err;
+
+  const std::string mixed = write_batch("m.json", {{"figures", {"one.json"}}, {"stills", 2}});
+  const auto refused = batch(mixed, dir_ / "mixed");
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("m.json: stills: a list of \"figures\" takes no \"stills\""), std::string::npos)
+      << refused.err;
 }
 
 TEST_F(Batch, StatusListsEveryJob) {
