@@ -10,6 +10,11 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
+
+#include <csignal>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "common/tissu_shell.h"
 #include "video/png_io.h"
@@ -305,6 +310,46 @@ TEST_F(Batch, FiguresAreJobsToo) {
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("m.json: stills: a list of \"figures\" takes no \"stills\""), std::string::npos)
       << refused.err;
+}
+
+TEST_F(Batch, InterruptStopsTheRunningJobsAndStartsNoMore) {
+  const std::string file = write_batch(
+      "b.json", {{"produce", "run"},
+                 {"set", {{"steps", 100000000}}},
+                 {"list", {{{"cloth.material", "silk"}}, {{"cloth.material", "linen"}}}}});
+  const fs::path out = dir_ / "out";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string out_arg = out.string();
+    execl(TISSU_BINARY, TISSU_BINARY, "batch", file.c_str(), "--out", out_arg.c_str(), "--jobs", "1",
+          "--quiet", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until the first job runs, then interrupt the batch.
+  const fs::path state = out / "jobs" / "material-silk" / "state.json";
+  for (int i = 0; i < 600 && read_text(state).find("running") == std::string::npos; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_EQ(read_json(state)["status"], "interrupted");
+  // The job writes its report when the signal came after it had started simulating (a
+  // job still loading its scene dies of the signal).
+  const fs::path report = out / "jobs" / "material-silk" / "report.json";
+  if (fs::exists(report)) {
+    EXPECT_EQ(read_json(report)["status"], "interrupted");
+  }
+  EXPECT_FALSE(fs::exists(out / "jobs" / "material-linen" / "state.json"));  // never started
+  const std::vector<std::string> csv = lines_of(out / "summary.csv");
+  ASSERT_EQ(csv.size(), 3u);
+  EXPECT_EQ(csv[1].rfind("material-silk,", 0), 0u);
+  EXPECT_NE(csv[1].find(",interrupted,130,"), std::string::npos) << csv[1];
+  EXPECT_NE(csv[2].find(",pending,"), std::string::npos) << csv[2];
 }
 
 TEST_F(Batch, StatusListsEveryJob) {
