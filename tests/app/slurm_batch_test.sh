@@ -57,6 +57,12 @@ EOF
 grep -q -- "--cpus-per-task=1" "$work/slurm/slurm/array.sh" || fail "array.sh asks for no CPUs per task"
 grep -q -- "--mem=200M" "$work/slurm/slurm/array.sh" || fail "array.sh asks for no memory"
 
+# Status right after submission: every job queued, running or done, and the gathering job.
+"$tissu" batch status "$work/slurm" >"$work/status-early.txt" || fail "early tissu batch status exited $?"
+grep -q "gathering job" "$work/status-early.txt" || fail "early status: no gathering job"
+[ "$(grep -cE '^material-[a-z]+  (queued|running|done|failed)' "$work/status-early.txt")" = 3 ] ||
+  { cat "$work/status-early.txt"; fail "early status: not every job listed"; }
+
 # Wait for the gathering job: it writes the summary once every task has ended.
 gather_job=$(sed -n 's/.*"gather_job": "\([0-9]*\)".*/\1/p' "$work/slurm/slurm/submitted.json")
 [ -n "$gather_job" ] || fail "no gathering job recorded in submitted.json"
