@@ -148,36 +148,60 @@ SlurmSubmission submit_to_slurm(const BatchPlan& plan, const std::vector<size_t>
   return s;
 }
 
-int print_batch_status(const BatchPlan& plan, std::ostream& out) {
+namespace {
+
+// The last submission recorded in DIR/slurm/submitted.json and what squeue says of it.
+struct SchedulerView {
+  std::string array_job, gather_job;       // "" when never submitted
+  std::map<std::string, std::string> jobs;  // "123_4" or "124" -> PENDING, RUNNING, ...
+  std::string note;                         // why squeue could not tell, if it could not
+};
+
+SchedulerView scheduler_view(const BatchPlan& plan) {
   const fs::path slurm_dir = fs::path(plan.dir) / "slurm";
+  SchedulerView view;
   nlohmann::json record;
-  {
-    std::ifstream in(slurm_dir / "submitted.json");
-    if (in) {
-      try {
-        record = nlohmann::json::parse(in);
-      } catch (const nlohmann::json::exception&) {
-      }
-    }
+  std::ifstream in(slurm_dir / "submitted.json");
+  if (!in) return view;
+  try {
+    record = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return view;
   }
-  // Scheduler states of the array's tasks ("123_4") and the gathering job.
-  std::map<std::string, std::string> scheduler;
-  std::string scheduler_note;
-  const std::string array_job = record.is_object() ? record.value("array_job", "") : "";
-  const std::string gather_job = record.is_object() ? record.value("gather_job", "") : "";
-  if (!gather_job.empty()) {
-    const std::string ids = array_job.empty() ? gather_job : array_job + "," + gather_job;
-    const CommandResult r = run_command(std::string(kCommandTimeout) + "squeue -h -r -o '%i|%T' -j " + ids,
-                                        slurm_dir / "squeue.err");
-    if (r.exit_code != 0) {
-      scheduler_note = "squeue failed: " + (r.err.empty() ? "exit code " + std::to_string(r.exit_code) : r.err);
-    }
-    std::istringstream lines(r.out);
-    for (std::string line; std::getline(lines, line);) {
-      const size_t bar = line.find('|');
-      if (bar != std::string::npos) scheduler[trimmed(line.substr(0, bar))] = trimmed(line.substr(bar + 1));
-    }
+  if (!record.is_object()) return view;
+  view.array_job = record.value("array_job", "");
+  view.gather_job = record.value("gather_job", "");
+  if (view.gather_job.empty()) return view;
+  const std::string ids = view.array_job.empty() ? view.gather_job : view.array_job + "," + view.gather_job;
+  const CommandResult r = run_command(std::string(kCommandTimeout) + "squeue -h -r -o '%i|%T' -j " + ids,
+                                      slurm_dir / "squeue.err");
+  if (r.exit_code != 0) {
+    view.note = "squeue failed: " + (r.err.empty() ? "exit code " + std::to_string(r.exit_code) : r.err);
   }
+  std::istringstream lines(r.out);
+  for (std::string line; std::getline(lines, line);) {
+    const size_t bar = line.find('|');
+    if (bar != std::string::npos) view.jobs[trimmed(line.substr(0, bar))] = trimmed(line.substr(bar + 1));
+  }
+  return view;
+}
+
+}  // namespace
+
+void refuse_while_queued(const BatchPlan& plan) {
+  const SchedulerView view = scheduler_view(plan);
+  if (view.jobs.empty()) return;
+  throw InputError(plan.dir + ": this batch is still queued or running on Slurm (array job " +
+                   (view.array_job.empty() ? "-" : view.array_job) + ", gathering job " +
+                   view.gather_job + "); wait for it (tissu batch status) or scancel it first");
+}
+
+int print_batch_status(const BatchPlan& plan, std::ostream& out) {
+  SchedulerView view = scheduler_view(plan);
+  std::map<std::string, std::string>& scheduler = view.jobs;
+  const std::string& array_job = view.array_job;
+  const std::string& gather_job = view.gather_job;
+  const std::string& scheduler_note = view.note;
   out << "batch " << plan.name << " (" << plan.dir << "): " << plan.jobs.size() << " jobs\n";
   if (!gather_job.empty()) {
     out << "slurm: array job " << (array_job.empty() ? "-" : array_job) << ", gathering job "

@@ -22,6 +22,10 @@ struct SlurmSubmission {
 // message) when sbatch fails.
 SlurmSubmission submit_to_slurm(const BatchPlan& plan, const std::vector<size_t>& todo);
 
+// Refuses (InputError naming DIR and the Slurm job) to start the batch in DIR again while
+// an earlier submission of it is still queued or running, so no job runs twice at once.
+void refuse_while_queued(const BatchPlan& plan);
+
 // One line per job (state, exit code, scheduler state, error), then the counts. Returns 0.
 int print_batch_status(const BatchPlan& plan, std::ostream& out);
 

@@ -63,6 +63,15 @@ grep -q "gathering job" "$work/status-early.txt" || fail "early status: no gathe
 [ "$(grep -cE '^material-[a-z]+  (queued|running|done|failed)' "$work/status-early.txt")" = 3 ] ||
   { cat "$work/status-early.txt"; fail "early status: not every job listed"; }
 
+# While it is on Slurm, the same batch is not started again in the same directory.
+if "$tissu" batch "$work/batch.json" --out "$work/slurm" --quiet 2>"$work/again.txt"; then
+  fail "a second run started while the batch was on Slurm"
+fi
+if ! grep -q "still queued or running on Slurm" "$work/again.txt"; then
+  # Only when the whole batch ended meanwhile may the local run go ahead (and find it complete).
+  [ -z "$(timeout 30 squeue -h -o %i)" ] || { cat "$work/again.txt"; fail "no refusal while queued"; }
+fi
+
 # Wait for the gathering job: it writes the summary once every task has ended.
 gather_job=$(sed -n 's/.*"gather_job": "\([0-9]*\)".*/\1/p' "$work/slurm/slurm/submitted.json")
 [ -n "$gather_job" ] || fail "no gathering job recorded in submitted.json"
