@@ -116,12 +116,17 @@ std::string md_cell(const std::string& text) {
   return out;
 }
 
-// A job's pictures for the contact sheet: its stills, or its figure.
-std::vector<fs::path> stills_of(const fs::path& job_dir, bool figure) {
+// The one picture of a figure or study job; "" for jobs with stills.
+const char* single_picture(const BatchPlan& plan) {
+  return plan.produce == "figure" ? "figure.png" : plan.produce == "study" ? "study.png" : "";
+}
+
+// A job's pictures for the contact sheet: its stills, or its figure or study plot.
+std::vector<fs::path> stills_of(const fs::path& job_dir, const std::string& single) {
   std::vector<fs::path> out;
   std::error_code ec;
-  if (figure) {
-    if (fs::is_regular_file(job_dir / "figure.png", ec)) out.push_back(job_dir / "figure.png");
+  if (!single.empty()) {
+    if (fs::is_regular_file(job_dir / single, ec)) out.push_back(job_dir / single);
     return out;
   }
   for (const auto& e : fs::directory_iterator(job_dir / "stills", ec)) {
@@ -173,7 +178,7 @@ void write_contact_sheet(const BatchPlan& plan, const std::vector<JobState>& sta
   std::vector<std::vector<fs::path>> stills;
   int w = 0, h = 0;
   for (size_t i = 0; i < plan.jobs.size(); ++i) {
-    stills.push_back(stills_of(plan.job_dir(i), plan.produce == "figure"));
+    stills.push_back(stills_of(plan.job_dir(i), single_picture(plan)));
     if (w == 0 && !stills.back().empty()) {
       const Image first = read_png(stills.back().front().string());
       w = first.width;
@@ -181,7 +186,7 @@ void write_contact_sheet(const BatchPlan& plan, const std::vector<JobState>& sta
     }
   }
   if (w == 0) return;
-  const int per_job = plan.produce == "figure" ? 1 : plan.stills;
+  const int per_job = *single_picture(plan) ? 1 : plan.stills;
   std::vector<Image> panels;
   std::vector<std::string> captions;
   for (size_t i = 0; i < plan.jobs.size(); ++i) {
@@ -258,7 +263,7 @@ GatherCounts gather_batch(const BatchPlan& plan) {
     for (const std::string& cell : row) md << "| " << md_cell(cell) << " ";
     md << "|\n";
   }
-  const bool pictures = plan.stills > 0 || plan.produce == "figure";
+  const bool pictures = plan.stills > 0 || *single_picture(plan);
   if (pictures) md << "\nContact sheet: contact_sheet.png\n";
   write_text_file((fs::path(plan.dir) / "summary.md").string(), md.str());
 

@@ -158,6 +158,12 @@ bool job_complete(const BatchPlan& plan, size_t i) {
   if (plan.produce == "figure") {
     return fs::is_regular_file(dir / "figure.png", ec) && fs::is_regular_file(dir / "figure.report.json", ec);
   }
+  if (plan.produce == "study") {
+    for (const char* f : {"study.csv", "study.md", "study.png"}) {
+      if (!fs::is_regular_file(dir / f, ec)) return false;
+    }
+    return true;
+  }
   const auto report = read_json_file(dir / "report.json");
   if (!report || !report->is_object()) return false;
   const std::string status = report->value("status", "");

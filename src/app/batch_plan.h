@@ -60,7 +60,7 @@ void write_job_state(const BatchPlan& plan, size_t i, const JobState& state);
 
 // True when the job is done and its outputs are complete and valid: state "done", a
 // readable report.json with status ok or stopped, and the stills (and MP4) asked for;
-// for a figure job, figure.png and its report.
+// for a figure job, figure.png and its report; for a study, study.csv, .md and .png.
 bool job_complete(const BatchPlan& plan, size_t i);
 
 std::string utc_now();   // "2026-11-25T15:02:53Z"

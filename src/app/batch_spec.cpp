@@ -122,6 +122,24 @@ void read_slurm(JsonReader& top, SlurmResources& out) {
   r.finish();
 }
 
+// Further options of each job's command, as given; not those the batch sets itself.
+std::vector<std::string> checked_options(const Json& list, const std::string& path) {
+  if (!list.is_array()) throw InputError(path + ": expected a list of command-line options");
+  std::vector<std::string> out;
+  for (size_t i = 0; i < list.size(); ++i) {
+    if (!list[i].is_string()) throw InputError(element_path(path, i) + ": expected a string");
+    const std::string o = list[i].get<std::string>();
+    for (const char* own : {"--out", "--out-dir", "--report", "-y", "--overwrite", "--quiet", "--threads",
+                            "--stills", "--frames", "--no-mp4", "--set"}) {
+      if (o == own) {
+        throw InputError(element_path(path, i) + ": " + o + " is set by the batch itself (see docs/batch.md)");
+      }
+    }
+    out.push_back(o);
+  }
+  return out;
+}
+
 BatchSpec parse_batch(const Json& doc, const Ordered& ordered, const std::string& file) {
   BatchSpec b;
   b.file = file;
@@ -129,7 +147,7 @@ BatchSpec parse_batch(const Json& doc, const Ordered& ordered, const std::string
   JsonReader r(doc, "");
   b.name = r.string("name", fs::path(file).stem().string());
   const bool has_figures = doc.contains("figures");
-  b.produce = r.choice("produce", {"run", "render", "stills", "figure"}, has_figures ? "figure" : "render");
+  b.produce = r.choice("produce", {"run", "render", "stills", "figure", "study"}, has_figures ? "figure" : "render");
   if ((b.produce == "figure") != has_figures) {
     throw InputError(has_figures ? r.path_of("produce") + ": a list of \"figures\" produces \"figure\""
                                  : r.path_of("produce") + ": \"figure\" needs \"figures\", a list of figure files");
@@ -149,9 +167,14 @@ BatchSpec parse_batch(const Json& doc, const Ordered& ordered, const std::string
   if (b.produce == "run" && b.stills > 0) {
     throw InputError(r.path_of("stills") + ": produce \"run\" renders no stills (use \"render\" or \"stills\")");
   }
+  if (b.produce == "study" && b.stills > 0) {
+    throw InputError(r.path_of("stills") + ": produce \"study\" renders no stills (its plot is study.png)");
+  }
   b.frames = r.integer("frames", 0, Range::between(0, 1e12));
   b.threads = static_cast<int>(r.integer("threads", 1, Range::between(1, 256)));
   read_slurm(r, b.slurm);
+  if (r.has("options")) b.options = checked_options(r.raw("options"), r.path_of("options"));
+  r.accept("options");
   for (const char* key : {"scene", "scenes", "set", "grid", "list", "figures"}) r.accept(key);
   r.finish();
 
@@ -268,18 +291,22 @@ BatchSpec read_batch_file(const std::string& file) {
 
 std::vector<std::string> job_arguments(const BatchSpec& batch, const BatchJob& job,
                                        const std::string& job_dir) {
+  std::vector<std::string> args;
   if (batch.produce == "figure") {
     // The figure file is the job's scene_file; its image is DIR/jobs/<name>/figure.png.
-    return {"figure", job.scene_file, "--out", job_dir + "/figure.png", "--quiet"};
+    args = {"figure", job.scene_file, "--out", job_dir + "/figure.png", "--quiet"};
+  } else if (batch.produce == "study") {
+    args = {"study", job.scene_file, "--out", job_dir, "--quiet"};
+  } else {
+    args = {batch.produce == "run" ? "run" : "render", job.scene_file, "--out", job_dir,
+            "--overwrite", "--quiet", "--threads", std::to_string(batch.threads)};
   }
-  std::vector<std::string> args{batch.produce == "run" ? "run" : "render", job.scene_file,
-                                "--out", job_dir, "--overwrite", "--quiet",
-                                "--threads", std::to_string(batch.threads)};
   for (const JobOverride& o : job.overrides) {
     args.push_back("--set");
     args.push_back(o.assignment());
   }
-  if (batch.produce != "run") {
+  args.insert(args.end(), batch.options.begin(), batch.options.end());
+  if (batch.produce == "render" || batch.produce == "stills") {
     if (batch.produce == "stills") args.push_back("--no-mp4");
     if (batch.stills > 0) {
       args.push_back("--stills");

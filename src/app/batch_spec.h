@@ -36,8 +36,10 @@ struct SlurmResources {
 struct BatchSpec {
   std::string file;  // the batch file as given
   std::string name;  // "name", else the file's stem
-  // "run", "render" (MP4), "stills" (no MP4) or "figure" (tissu figure of a figure file)
+  // "run", "render" (MP4), "stills" (no MP4), "figure" (tissu figure of a figure file) or
+  // "study" (tissu study: error against cost of every integrator)
   std::string produce = "render";
+  std::vector<std::string> options;  // further options of each job's command, as given
   int stills = 0;                  // stills per job (render, stills)
   long long frames = 0;            // --frames N for render; 0 = every frame
   int threads = 1;                 // --threads of each job

@@ -213,6 +213,7 @@ TEST_F(Batch, BadBatchFilesGiveOneLineAndWriteNothing) {
       {{{"scene", "fall.json"}, {"scenes", {"fall.json"}}}, "b.json: scenes: give either"},
       {{{"grid", {{"dt", {0.001}}}}, {"list", {Json::object()}}}, "b.json: list: give either"},
       {{{"list", {1, 2}}}, "b.json: list[0]: expected an object"},
+      {{{"options", {"--check", "--out"}}}, "b.json: options[1]: --out is set by the batch itself"},
   };
   for (const Case& c : cases) {
     const std::string file = write_batch("b.json", c.batch);
@@ -350,6 +351,23 @@ TEST_F(Batch, InterruptStopsTheRunningJobsAndStartsNoMore) {
   EXPECT_EQ(csv[1].rfind("material-silk,", 0), 0u);
   EXPECT_NE(csv[1].find(",interrupted,130,"), std::string::npos) << csv[1];
   EXPECT_NE(csv[2].find(",pending,"), std::string::npos) << csv[2];
+}
+
+TEST_F(Batch, StudiesAreJobsWithTheirOptions) {
+  const std::string file = write_batch(
+      "b.json", {{"produce", "study"},
+                 {"options", {"--integrators", "backward_euler", "--dts", "0.004,0.008", "--ref-dt", "1e-4"}},
+                 {"grid", {{"cloth.material", {"silk", "cotton"}}}}});
+  const fs::path out = dir_ / "out";
+  const auto r = batch(file, out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = read_text(out / "jobs" / "material-cotton" / "study.csv");
+  EXPECT_NE(csv.find("backward_euler"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find("bdf2"), std::string::npos) << csv;  // --integrators reached the study
+  EXPECT_TRUE(fs::exists(out / "jobs" / "material-silk" / "study.png"));
+  EXPECT_TRUE(fs::exists(out / "contact_sheet.png"));
+  const auto again = batch(file, out);
+  EXPECT_NE(again.err.find("2 complete (skipped), 0 to run"), std::string::npos) << again.err;
 }
 
 TEST_F(Batch, StatusListsEveryJob) {
