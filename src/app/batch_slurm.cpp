@@ -52,6 +52,17 @@ std::string trimmed(std::string s) {
   return s;
 }
 
+// A value in an #SBATCH line: sbatch splits those lines at spaces unless quoted.
+std::string directive_quote(const std::string& value) {
+  if (value.find_first_of(" \t\"'") == std::string::npos) return value;
+  std::string out = "\"";
+  for (char c : value) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
 void add_resources(std::ostream& script, const SlurmResources& r, bool per_task) {
   if (per_task) script << "#SBATCH --cpus-per-task=" << r.cpus_per_task << "\n";
   if (per_task && !r.mem.empty()) script << "#SBATCH --mem=" << r.mem << "\n";
@@ -66,8 +77,8 @@ std::string write_script(const BatchPlan& plan, const std::string& name, const s
   std::ostringstream s;
   s << "#!/bin/sh\n"
     << "# Written by `tissu batch --executor slurm` for " << plan.batch_file << ".\n"
-    << "#SBATCH --job-name=tissu-" << plan.name << (per_task ? "" : "-gather") << "\n"
-    << "#SBATCH --output=" << output << "\n";
+    << "#SBATCH --job-name=" << directive_quote("tissu-" + plan.name + (per_task ? "" : "-gather")) << "\n"
+    << "#SBATCH --output=" << directive_quote(output) << "\n";
   add_resources(s, plan.slurm, per_task);
   s << body;
   const std::string path = (fs::path(plan.dir) / "slurm" / name).string();
