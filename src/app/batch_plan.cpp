@@ -1,6 +1,10 @@
 #include "app/batch_plan.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
+
+#include <cerrno>
 
 #include <ctime>
 #include <filesystem>
@@ -12,6 +16,7 @@
 #include "app/cli.h"
 #include "app/report.h"
 #include "core/error.h"
+#include "video/partial_file.h"
 
 namespace tissu {
 
@@ -95,6 +100,31 @@ void claim_batch_dir(const BatchPlan& plan) {
   prepare_output_dir(plan.dir);
   for (size_t i = 0; i < plan.jobs.size(); ++i) prepare_output_dir(plan.job_dir(i));
   write_text_file(plan.plan_path(), plan_json(plan).dump(1) + "\n");
+}
+
+BatchDirLock::BatchDirLock(const BatchPlan& plan) {
+  const std::string path = (fs::path(plan.dir) / ".lock").string();
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw OutputError(path + ": cannot open: " + errno_text(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    char holder[32] = {};
+    const ssize_t n = ::pread(fd_, holder, sizeof holder - 1, 0);
+    ::close(fd_);
+    fd_ = -1;
+    const std::string pid = n > 0 ? std::string(holder, static_cast<size_t>(n)) : "";
+    throw InputError(plan.dir + ": another tissu batch runs in this directory" +
+                     (pid.empty() ? std::string() : " (process " + pid + ")") +
+                     "; wait for it or stop it first");
+  }
+  const std::string pid = std::to_string(::getpid());
+  if (::ftruncate(fd_, 0) == 0) {
+    const ssize_t ignored = ::pwrite(fd_, pid.data(), pid.size(), 0);
+    (void)ignored;
+  }
+}
+
+BatchDirLock::~BatchDirLock() {
+  if (fd_ >= 0) ::close(fd_);  // closing releases the lock
 }
 
 BatchPlan read_batch_plan(const std::string& dir) {

@@ -40,6 +40,21 @@ BatchPlan plan_batch(const BatchSpec& batch, const std::string& dir);
 // directories.
 void claim_batch_dir(const BatchPlan& plan);
 
+// An exclusive lock on DIR/.lock (flock), held while one tissu batch runs or submits
+// there, so two at once never run the same job. The system drops it when the process ends,
+// however it ends.
+class BatchDirLock {
+ public:
+  // InputError naming DIR (and the holder's process id) when another process holds it.
+  explicit BatchDirLock(const BatchPlan& plan);
+  ~BatchDirLock();
+  BatchDirLock(const BatchDirLock&) = delete;
+  BatchDirLock& operator=(const BatchDirLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 // Reads DIR/batch.json; InputError when DIR is not a batch directory.
 BatchPlan read_batch_plan(const std::string& dir);
 

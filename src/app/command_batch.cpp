@@ -67,6 +67,7 @@ int run_batch(const BatchOptions& options) {
   const BatchSpec spec = read_batch_file(options.batch_file);
   const BatchPlan plan = plan_batch(spec, options.out_dir);
   claim_batch_dir(plan);
+  const BatchDirLock lock(plan);
   refuse_while_queued(plan);
   std::vector<size_t> todo;
   for (size_t i = 0; i < plan.jobs.size(); ++i) {

@@ -313,6 +313,7 @@ TEST_F(Batch, FiguresAreJobsToo) {
       << refused.err;
 }
 
+// Also: a second run of the batch in the same directory is refused while the first runs.
 TEST_F(Batch, InterruptStopsTheRunningJobsAndStartsNoMore) {
   const std::string file = write_batch(
       "b.json", {{"produce", "run"},
@@ -332,6 +333,12 @@ TEST_F(Batch, InterruptStopsTheRunningJobsAndStartsNoMore) {
   for (int i = 0; i < 600 && read_text(state).find("running") == std::string::npos; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
+  // Meanwhile, the same batch in the same directory is refused.
+  const auto second = batch(file, out);
+  EXPECT_EQ(second.exit_code, 2) << second.err;
+  EXPECT_NE(second.err.find("another tissu batch runs in this directory (process " + std::to_string(pid) + ")"),
+            std::string::npos)
+      << second.err;
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));
   kill(pid, SIGINT);
   int status = 0;
