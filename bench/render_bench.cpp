@@ -1,10 +1,11 @@
 // Speed of `tissu render` per stage: simulate, draw, read back and encode, in ms per video
 // frame (wall and CPU time), and the frames produced per second end to end.
 //
-//   tissu_render_bench [SCENE.json] [--frames N] [--msaa 4,1] [--set KEY=VALUE]... [--threads N]
+//   tissu_render_bench [SCENE.json] [--frames N] [--msaa 4,1,fxaa] [--set KEY=VALUE]... [--threads N]
 //                      [--replay] [--passes] [--out DIR]
 //
-// Default: the demo scene (scenes/demo.json), all its frames, MSAA 4 then 1. For each MSAA
+// Default: the demo scene (scenes/demo.json), all its frames, MSAA 4 then 1 ("fxaa": one
+// sample and FXAA, render/fxaa.h). For each setting
 // the scene is simulated and rendered to an MP4 in DIR (default: a temporary directory)
 // exactly as `tissu render` does it (RenderSink: drawing and encoding overlap the
 // simulation), and the times are printed.
@@ -67,11 +68,15 @@ struct Options {
   std::string png_dir;      // also write every frame as a PNG here
 };
 
+constexpr int kFxaa = -1;  // in the --msaa list: one sample, then FXAA
+
+std::string aa_name(int msaa) { return msaa == kFxaa ? "FXAA" : "MSAA " + std::to_string(msaa); }
+
 std::vector<int> parse_list(const std::string& text) {
   std::vector<int> values;
   std::stringstream in(text);
   std::string item;
-  while (std::getline(in, item, ',')) values.push_back(std::atoi(item.c_str()));
+  while (std::getline(in, item, ',')) values.push_back(item == "fxaa" ? kFxaa : std::atoi(item.c_str()));
   return values;
 }
 
@@ -98,7 +103,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--png") o.png_dir = value();
     else if (a.rfind("--", 0) == 0 || a == "-h") {
       std::fprintf(stderr,
-                   "usage: tissu_render_bench [SCENE.json] [--frames N] [--msaa 4,1] "
+                   "usage: tissu_render_bench [SCENE.json] [--frames N] [--msaa 4,1,fxaa] "
                    "[--set KEY=VALUE]... [--replay] [--passes] [--serial] [--threads N] [--states FILE] "
                    "[--png DIR] "
                    "[--out DIR]\n");
@@ -172,8 +177,8 @@ void print_results(const char* what, int msaa, const RenderSettings& settings, c
   const double encoder_cpu = std::max(
       0.0, t.process_cpu - t.main_cpu - t.helpers_cpu - c.thread_total - c.rasterizer);
   auto ms = [&](double s) { return 1e3 * s / n; };
-  std::printf("\n== %s, MSAA %d, %dx%d, %lld frames (%.0f simulation steps per frame)\n", what,
-              msaa, settings.width, settings.height, t.frames,
+  std::printf("\n== %s, %s, %dx%d, %lld frames (%.0f simulation steps per frame)\n", what,
+              aa_name(msaa).c_str(), settings.width, settings.height, t.frames,
               t.frames > 1 ? static_cast<double>(t.steps) / (n - 1) : 0.0);
   std::printf("  %-44s %12s %12s\n", "stage, per frame", "wall ms", "CPU ms");
   if (t.steps > 0) {
@@ -278,13 +283,14 @@ int main(int argc, char** argv) {
     }
 
     for (int msaa : options.msaa) {
-      settings.msaa = msaa;
+      settings.fxaa = msaa == kFxaa;
+      settings.msaa = settings.fxaa ? 1 : msaa;
       Simulation sim = build_simulation(scene);
       RenderOutputs outputs;
       if (!options.passes) outputs.mp4_path = (out / (scene.name + ".mp4")).string();
       outputs.max_frames = frames;
       if (!options.png_dir.empty()) {
-        outputs.png_dir = (fs::path(options.png_dir) / ("msaa" + std::to_string(msaa))).string();
+        outputs.png_dir = (fs::path(options.png_dir) / (settings.fxaa ? std::string("fxaa") : "msaa" + std::to_string(msaa))).string();
         fs::create_directories(outputs.png_dir);
       }
       outputs.pass_timing = options.passes;

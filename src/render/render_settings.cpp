@@ -172,6 +172,12 @@ RenderSettings parse_render_settings(JsonReader& render, const Vec3& scene_up) {
     throw InputError(render.path_of("msaa") + ": must be 1, 2 or 4, got " +
                      std::to_string(s.msaa));
   }
+  s.fxaa = render.boolean("fxaa", s.fxaa);
+  if (s.fxaa && !render.has("msaa")) s.msaa = 1;
+  if (s.fxaa && s.msaa != 1) {
+    throw InputError(render.path_of("fxaa") + ": needs render.msaa 1 (FXAA replaces multisampling), got msaa " +
+                     std::to_string(s.msaa));
+  }
   s.fps = static_cast<int>(render.integer("fps", s.fps, Range::any()));
   if (s.fps < 1 || s.fps > 240) {
     throw InputError(render.path_of("fps") + ": must be in [1, 240], got " +

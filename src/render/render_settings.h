@@ -45,6 +45,7 @@ constexpr int kMaxLights = 4;
 struct RenderSettings {
   int width = 1280, height = 720;  // pixels, even
   int msaa = 4;                    // samples per pixel: 1, 2 or 4
+  bool fxaa = false;               // single sample smoothed by FXAA (msaa 1, the default with it)
   int fps = 30;                    // video frames per second of video time
   double slow_motion = 1.0;        // video time = simulated time * slow_motion
   Background background;

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "render/cloth_geometry.h"
+#include "render/fxaa.h"
 #include "render/ground_geometry.h"
 #include "render/obstacle_meshes.h"
 #include "render/offscreen_context.h"
@@ -177,6 +178,7 @@ struct Renderer::Impl {
   Mat3 to_render = Mat3::Identity();
   bool turning = false;
   FrameContent turned_content;  // the frame in the renderer's coordinates, when turning
+  FxaaScratch fxaa_scratch;
   // Reused between frames.
   std::vector<MeshVertex> corners;
   std::vector<ClothVertex> vertices;
@@ -549,6 +551,10 @@ void Renderer::read_rgb(std::vector<uint8_t>& out) {
   impl_->context.make_current();
   impl_->timer.start();
   impl_->context.read_rgb(out, &impl_->timer);
+  if (impl_->settings.fxaa) {
+    fxaa_rgb(out, impl_->context.width(), impl_->context.height(), impl_->fxaa_scratch);
+    impl_->timer.lap("FXAA (CPU)");
+  }
 }
 
 void Renderer::set_pass_timing(bool on) { impl_->timer.enable(on); }

@@ -120,6 +120,7 @@ void Mp4Writer::State::open_encoder(FrameRate fps, const Mp4Options& options) {
   const bool avx512 = av_get_cpu_flags() & AV_CPU_FLAG_AVX512;
   if (av_dict_set(&settings, "preset", options.preset.c_str(), 0) < 0 ||
       av_dict_set(&settings, "crf", std::to_string(options.crf).c_str(), 0) < 0 ||
+      (!options.tune.empty() && av_dict_set(&settings, "tune", options.tune.c_str(), 0) < 0) ||
       (avx512 && av_dict_set(&settings, "x264-params", "asm=AVX2", 0) < 0)) {
     av_dict_free(&settings);
     fail("cannot start the H.264 encoder", AVERROR(ENOMEM));

@@ -114,6 +114,27 @@ TEST(render_settings, RejectsMsaaThree) {
   EXPECT_EQ(parse_error(R"({"msaa": 3})"), "render.msaa: must be 1, 2 or 4, got 3");
 }
 
+TEST(render_settings, FxaaIsSingleSampled) {
+  EXPECT_EQ(parse(R"({"fxaa": true})").msaa, 1);
+  EXPECT_TRUE(parse(R"({"fxaa": true, "msaa": 1})").fxaa);
+  EXPECT_EQ(parse_error(R"({"fxaa": true, "msaa": 4})"),
+            "render.fxaa: needs render.msaa 1 (FXAA replaces multisampling), got msaa 4");
+}
+
+TEST(render_settings, UpComesFromTheSceneUnlessGiven) {
+  const Json none = Json::object();
+  JsonReader empty(none, "render");
+  const RenderSettings s = parse_render_settings(empty, Vec3(0, 2, 0));
+  EXPECT_EQ(s.up, Vec3(0, 1, 0));
+  EXPECT_EQ(s.camera.up, Vec3(0, 1, 0));
+  // The default key light still comes from above: against the scene's up.
+  EXPECT_LT(s.lights[0].direction.dot(Vec3(0, 1, 0)), 0.0);
+  EXPECT_EQ(parse(R"({"up": [1, 0, 0]})").up, Vec3(1, 0, 0));
+  EXPECT_EQ(up_from_gravity(Vec3(0, 0, -9.81)), Vec3(0, 0, 1));
+  EXPECT_EQ(up_from_gravity(std::nullopt), Vec3(0, 0, 1));
+  EXPECT_EQ(parse_error(R"({"up": [0, 0, 0]})"), "render.up: must not be the zero vector");
+}
+
 TEST(render_settings, RejectsBadValues) {
   EXPECT_EQ(parse_error(R"({"slow_motion": 0.5})"),
             "render.slow_motion: must be >= 1, got 0.5");

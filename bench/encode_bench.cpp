@@ -1,0 +1,100 @@
+// H.264 encoder settings against each other on real frames: processor time per frame,
+// file size and quality (PSNR of the decoded video against the frames given).
+//
+//   tissu_encode_bench FRAME_DIR [--fps N] [--presets a,b,...] [--tunes t,...] [--crf N]
+//
+// FRAME_DIR holds frame_NNNNNN.png files, e.g. from
+//   tissu render scenes/demo.json --png --no-mp4 --out /tmp/frames -y
+// Each setting encodes every frame on this thread (encoder_threads 1, as tissu does) into a
+// temporary MP4; the time is this thread's processor time in Mp4Writer::write_frame and
+// finish(), with the RGB to YUV conversion included.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "render/cpu_clock.h"
+#include "video/image.h"
+#include "video/mp4_reader.h"
+#include "video/mp4_writer.h"
+#include "video/png_io.h"
+
+using namespace tissu;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> split(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream ss(list);
+  std::string item;
+  while (std::getline(ss, item, ',')) out.push_back(item);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: tissu_encode_bench FRAME_DIR [--fps N] [--presets LIST] [--tunes LIST] [--crf N]\n");
+    return 2;
+  }
+  const fs::path dir = argv[1];
+  int fps = 30, crf = 20;
+  std::vector<std::string> presets = {"ultrafast", "superfast", "veryfast", "faster", "medium"};
+  std::vector<std::string> tunes = {""};
+  for (int i = 2; i + 1 < argc; i += 2) {
+    const std::string a = argv[i], v = argv[i + 1];
+    if (a == "--fps") fps = std::stoi(v);
+    else if (a == "--presets") presets = split(v);
+    else if (a == "--tunes") tunes = split(v);
+    else if (a == "--crf") crf = std::stoi(v);
+  }
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() == ".png") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<Image> frames;
+  for (const fs::path& f : files) frames.push_back(read_png(f.string()));
+  if (frames.empty()) {
+    std::fprintf(stderr, "tissu_encode_bench: no PNG frames in %s\n", dir.c_str());
+    return 2;
+  }
+  std::printf("%zu frames %dx%d, crf %d\n\n", frames.size(), frames[0].width, frames[0].height, crf);
+  std::printf("| preset | tune | CPU ms/frame | kB per second of video | mean PSNR dB | lowest PSNR dB |\n");
+  std::printf("| --- | --- | ---: | ---: | ---: | ---: |\n");
+  const fs::path out = fs::temp_directory_path() / "tissu_encode_bench.mp4";
+  for (const std::string& tune : tunes) {
+    for (const std::string& preset : presets) {
+      Mp4Options o;
+      o.preset = preset;
+      o.tune = tune;
+      o.crf = crf;
+      const double c0 = thread_cpu_seconds();
+      {
+        Mp4Writer writer(out.string(), frames[0].width, frames[0].height, FrameRate(fps), o);
+        for (const Image& f : frames) writer.write_frame(f);
+        writer.finish();
+      }
+      const double cpu_ms = 1e3 * (thread_cpu_seconds() - c0) / frames.size();
+      const double kb_per_s = fs::file_size(out) / 1e3 / (double(frames.size()) / fps);
+      Mp4Reader reader(out.string());
+      Image decoded;
+      double sum = 0.0, lowest = 1e9;
+      size_t k = 0;
+      while (reader.read_frame(decoded) && k < frames.size()) {
+        const double psnr = compare_images(frames[k++], decoded).psnr_db;
+        sum += psnr;
+        lowest = std::min(lowest, psnr);
+      }
+      std::printf("| %s | %s | %.1f | %.0f | %.2f | %.2f |\n", preset.c_str(),
+                  tune.empty() ? "none" : tune.c_str(), cpu_ms, kb_per_s, sum / k, lowest);
+      std::fflush(stdout);
+    }
+  }
+  fs::remove(out);
+  return 0;
+}
