@@ -29,13 +29,16 @@ std::string log_path(const BatchPlan& plan, size_t i) {
   return (fs::path(plan.job_dir(i)) / "log.txt").string();
 }
 
-// The last line of the log that is not empty (the child's error, as it printed it).
+// Why the child failed, as it printed it: the line that says where it diverged (a
+// divergence is followed by a hint line), else the last line of the log that is not empty.
 std::string last_log_line(const std::string& path) {
   std::ifstream in(path);
-  std::string line, last;
+  std::string line, last, diverged;
   while (std::getline(in, line)) {
     if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+    if (line.find(": diverged at step ") != std::string::npos) diverged = line;
   }
+  if (!diverged.empty()) last = diverged;
   const size_t cr = last.rfind('\r');  // a progress line redrawn in place
   if (cr != std::string::npos) last = last.substr(cr + 1);
   const std::string prefix = "tissu: ";
