@@ -128,17 +128,29 @@ void zip_rings(const std::vector<int>& inner, const std::vector<int>& outer, Tri
 }
 
 // n rings with about alpha k vertices on ring k give about alpha n^2 triangles: n is chosen
-// for alpha near 6 (equilateral-like), then alpha = triangles / n^2 hits the count.
-TriMesh regular_disk(double radius, int triangles) {
+// for alpha near 6 (equilateral-like), then alpha = triangles / n^2 hits the count. With an
+// inner circle (inner > 0), ring k_in = round(n inner / radius) is placed on it, and the
+// rings inside and outside it are spaced evenly.
+TriMesh regular_disk(double radius, int triangles, double inner = 0.0) {
   const int rings = std::max(1, static_cast<int>(std::lround(std::sqrt(triangles / 6.0))));
   const double per_ring = static_cast<double>(triangles) / (rings * rings);
+  const int inner_ring =
+      inner > 0.0 ? std::clamp(static_cast<int>(std::lround(rings * inner / radius)), 1,
+                               std::max(1, rings - 1))
+                  : 0;
+  auto ring_radius = [&](int k) {
+    if (inner_ring == 0 || inner_ring >= rings) return radius * k / rings;
+    if (k == inner_ring) return inner;
+    if (k < inner_ring) return inner * k / inner_ring;
+    return inner + (radius - inner) * (k - inner_ring) / (rings - inner_ring);
+  };
   Vec2List points{Vec2::Zero()};
   TriList tris;
-  std::vector<int> inner{0};
+  std::vector<int> inner_ids{0};
   for (int k = 1; k <= rings; ++k) {
     const int count = std::max(3, static_cast<int>(std::lround(per_ring * k)));
     std::vector<int> ring;
-    const double r = radius * k / rings;
+    const double r = k == rings ? radius : ring_radius(k);
     for (int i = 0; i < count; ++i) {
       const double angle = 2.0 * kPi * i / count;
       ring.push_back(static_cast<int>(points.size()));
@@ -147,14 +159,16 @@ TriMesh regular_disk(double radius, int triangles) {
     if (k == 1) {
       for (int i = 0; i < count; ++i) tris.emplace_back(0, ring[i], ring[(i + 1) % count]);
     } else {
-      zip_rings(inner, ring, tris);
+      zip_rings(inner_ids, ring, tris);
     }
-    inner = std::move(ring);
+    inner_ids = std::move(ring);
   }
   return flat_mesh(std::move(points), std::move(tris));
 }
 
-TriMesh irregular_disk(double radius, int triangles, uint64_t seed) {
+// With an inner circle (inner > 0), its points join the boundary's as fixed points, and
+// interior points keep a margin from it as from the boundary.
+TriMesh irregular_disk(double radius, int triangles, uint64_t seed, double inner = 0.0) {
   const double spacing = equilateral_spacing(kPi * radius * radius, triangles);
   int count = std::max(3, static_cast<int>(std::lround(2.0 * kPi * radius / spacing)));
   if ((count - triangles) % 2 != 0) ++count;  // same parity: the count comes out exact
@@ -163,9 +177,19 @@ TriMesh irregular_disk(double radius, int triangles, uint64_t seed) {
     const double angle = 2.0 * kPi * i / count;
     domain.boundary.emplace_back(radius * std::cos(angle), radius * std::sin(angle));
   }
+  const int inner_count =
+      inner > 0.0 ? std::max(3, static_cast<int>(std::lround(2.0 * kPi * inner / spacing))) : 0;
+  for (int i = 0; i < inner_count; ++i) {
+    const double angle = 2.0 * kPi * i / inner_count;
+    domain.boundary.emplace_back(inner * std::cos(angle), inner * std::sin(angle));
+  }
   const double inradius = radius * std::cos(kPi / count);  // of the boundary polygon
-  domain.contains = [inradius](const Vec2& p, double m) { return p.norm() <= inradius - m; };
-  const int interior = std::max(0, (triangles - count + 2) / 2);
+  domain.contains = [inradius, inner, inner_count](const Vec2& p, double m) {
+    const double r = p.norm();
+    return r <= inradius - m && (inner_count == 0 || std::abs(r - inner) >= m);
+  };
+  // Every point but the `count` on the convex hull is interior to the triangulation.
+  const int interior = std::max(0, (triangles - count + 2) / 2 - inner_count);
   PlanarTriangulation t = irregular_triangulation(domain, interior, spacing, seed);
   return flat_mesh(std::move(t.points), std::move(t.triangles));
 }
@@ -185,6 +209,18 @@ TriMesh generate_disk(double radius, int triangles, bool irregular, uint64_t see
   require_length("generate_disk", "radius", radius);
   require_count("generate_disk", triangles, 6);
   return irregular ? irregular_disk(radius, triangles, seed) : regular_disk(radius, triangles);
+}
+
+TriMesh generate_disk(double radius, int triangles, bool irregular, uint64_t seed,
+                      double inner_radius) {
+  require_length("generate_disk", "radius", radius);
+  require_count("generate_disk", triangles, 24);  // two rings at least
+  if (!(inner_radius > 0.0 && inner_radius < radius)) {
+    throw InputError("generate_disk: inner_radius must be between 0 and the radius " +
+                     format_short(radius) + " m, got " + format_short(inner_radius));
+  }
+  return irregular ? irregular_disk(radius, triangles, seed, inner_radius)
+                   : regular_disk(radius, triangles, inner_radius);
 }
 
 TriMesh generate_sliver_rectangle(double width, double height, int triangles) {

@@ -23,6 +23,14 @@ TriMesh generate_rectangle(double width, double height, int triangles, bool irre
 // spaced on the circle. The covered area is that of the boundary polygon, slightly below pi r^2.
 TriMesh generate_disk(double radius, int triangles, bool irregular, uint64_t seed);
 
+// The same disk with vertices on a concentric circle of `inner_radius` (0 < inner_radius <
+// radius), so that a centre disc can be clamped along an exact circle, as Cusick's drape
+// test clamps its fabric. Regular: the rings are spaced evenly inside and outside that
+// circle, which is one of them. Irregular: its points, evenly spaced, stay where they are
+// as the boundary's do. The count of triangles is kept as without the inner circle.
+TriMesh generate_disk(double radius, int triangles, bool irregular, uint64_t seed,
+                      double inner_radius);
+
 // Degenerate shapes for stability tests, cut into a regular (union jack) rectangle mesh.
 constexpr double kSliverWidthRatio = 0.01;  // the thin column's width / a normal column's
 constexpr double kCapHeightRatio = 1e-3;    // a cap's area / its area in the regular grid

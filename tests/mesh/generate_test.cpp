@@ -4,8 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
+#include <set>
+#include <string>
 
 #include "mesh/quality.h"
 #include "mesh/validate.h"
@@ -176,6 +180,54 @@ TEST(meshGenerate, DiskIsCentredFlatAndValid) {
   }
 }
 
+// Cusick's drape test clamps a centre disc: the mesh has a circle of vertices there, joined
+// by edges all round it, and is as good a mesh as the plain disk.
+TEST(meshGenerate, DiskWithAnInnerCircle) {
+  const double radius = 0.15, inner = 0.09;  // m
+  for (bool irregular : {false, true}) {
+    for (int count : {1500, 6000}) {
+      const TriMesh mesh = generate_disk(radius, count, irregular, 4, inner);
+      SCOPED_TRACE(std::string(irregular ? "irregular, " : "regular, ") + std::to_string(count));
+      expect_flat_and_uv_is_xy(mesh);
+      expect_all_counter_clockwise(mesh);
+      expect_valid_without_warnings(mesh);
+      const double ratio = static_cast<double>(mesh.triangles.size()) / count;
+      EXPECT_GT(ratio, 0.9);
+      EXPECT_LT(ratio, 1.1);
+      std::vector<int> on_circle;
+      for (int i = 0; i < static_cast<int>(mesh.rest_uv.size()); ++i) {
+        if (std::abs(mesh.rest_uv[i].norm() - inner) < 1e-12) on_circle.push_back(i);
+      }
+      // Spaced like the mesh's edges: about 2 pi inner / spacing points.
+      const double spacing = std::sqrt(4.0 * kPi * radius * radius / (std::sqrt(3.0) * count));
+      EXPECT_NEAR(on_circle.size(), 2 * kPi * inner / spacing, 0.25 * 2 * kPi * inner / spacing);
+      // Consecutive points of the circle (by angle) share an edge: the circle is a polygon
+      // of mesh edges, so the clamped part is exactly the triangles inside it.
+      std::sort(on_circle.begin(), on_circle.end(), [&](int a, int b) {
+        return std::atan2(mesh.rest_uv[a].y(), mesh.rest_uv[a].x()) <
+               std::atan2(mesh.rest_uv[b].y(), mesh.rest_uv[b].x());
+      });
+      std::set<std::pair<int, int>> edges;
+      for (const Tri& t : mesh.triangles) {
+        for (int k = 0; k < 3; ++k) {
+          edges.emplace(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]));
+        }
+      }
+      int joined = 0;
+      for (size_t k = 0; k < on_circle.size(); ++k) {
+        const int a = on_circle[k], b = on_circle[(k + 1) % on_circle.size()];
+        joined += edges.count({std::min(a, b), std::max(a, b)}) ? 1 : 0;
+      }
+      EXPECT_EQ(joined, static_cast<int>(on_circle.size()));
+      const MeshQuality q = measure_quality(mesh);
+      EXPECT_GT(q.total_area, 0.99 * kPi * radius * radius);
+      EXPECT_GT(q.min_angle_deg, 25.0);
+      std::printf("  %zu on the circle, smallest angle %.1f deg, largest aspect %.2f\n",
+                  on_circle.size(), q.min_angle_deg, q.max_aspect_ratio);
+    }
+  }
+}
+
 TEST(meshGenerate, SliverRectangleHasNeedlesAndNearZeroAreaCaps) {
   const double width = 1.0, height = 0.8;  // m
   const TriMesh mesh = generate_sliver_rectangle(width, height, 990);
@@ -208,6 +260,8 @@ TEST(meshGenerate, RejectsBadParameters) {
   EXPECT_NE(input_error_of([] { generate_rectangle(1, NAN, 100, true, 0); }), "");
   EXPECT_NE(input_error_of([] { generate_rectangle(1, 1, 1, true, 0); }), "");
   EXPECT_NE(input_error_of([] { generate_disk(0, 100, true, 0); }), "");
+  EXPECT_EQ(input_error_of([] { generate_disk(0.15, 100, true, 0, 0.15); }),
+            "generate_disk: inner_radius must be between 0 and the radius 0.15 m, got 0.15");
   EXPECT_NE(input_error_of([] { generate_sliver_rectangle(1, 1, 50); }), "");
 }
 
