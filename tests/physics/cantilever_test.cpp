@@ -7,7 +7,12 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <string>
+
+#include "mesh/load.h"
+#include "mesh/mesh_test_util.h"
+#include "mesh/obj_writer.h"
 
 namespace tissu {
 namespace {
@@ -97,6 +102,46 @@ TEST(Cantilever, RefinementChangesTheAngleLessThanTheTolerance) {
   }
   std::printf("  2 mm cells %.2f deg, 1 mm cells %.2f deg\n", angle[0], angle[1]);
   EXPECT_LT(std::abs(angle[1] - angle[0]), kToleranceDeg);
+}
+
+// Peirce's strip written to a file with Tissu's OBJ writer (and as an ASCII PLY, read
+// through assimp), read back with the loader a scene uses, bends as the elastica says: a
+// mesh read from a file is no different from a generated one.
+std::string write_strip_ply(const std::string& path, const testing::Strip& strip) {
+  std::ofstream out(path);
+  out << "ply\nformat ascii 1.0\nelement vertex " << strip.st.size()
+      << "\nproperty double x\nproperty double y\nproperty double z\nelement face "
+      << strip.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  out.precision(17);
+  for (const Vec2& p : strip.st) out << p.x() << " " << p.y() << " 0\n";
+  for (const Tri& t : strip.triangles) out << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  return path;
+}
+
+TEST(Cantilever, MeshReadFromAFileMatchesTheElastica) {
+  const CantileverSetup setup = setup_for(2.0);
+  const double expected = elastica_deg(setup, setup.bending_weft);
+  test::TempDir dir;
+  for (StripMesh kind : {StripMesh::UnionJack, StripMesh::Irregular}) {
+    const auto strip = testing::make_strip(kind, kLength, 0.004, kCell, 3);
+    Vec3List positions;
+    for (const Vec2& p : strip.st) positions.emplace_back(p.x(), p.y(), 0.0);
+    write_obj(dir.file("strip.obj"), positions, strip.st, strip.triangles);
+    for (const std::string& file :
+         {dir.file("strip.obj"), write_strip_ply(dir.file("strip.ply"), strip)}) {
+      const TriMesh mesh = load_mesh(file, 1.0);
+      ASSERT_EQ(mesh.rest_uv.size(), strip.st.size()) << file;
+      testing::Strip loaded = strip;
+      loaded.st = mesh.rest_uv;  // s and t as the file gives them back
+      loaded.triangles = mesh.triangles;
+      const auto r = testing::solve_cantilever(loaded, setup);
+      std::printf("  %s, %s: elastica %.2f deg, Tissu %.2f deg\n",
+                  kind == StripMesh::UnionJack ? "union jack" : "irregular",
+                  file.substr(file.size() - 3).c_str(), expected, r.chord_angle * kDeg);
+      EXPECT_TRUE(r.converged) << file;
+      EXPECT_NEAR(r.chord_angle * kDeg, expected, kToleranceDeg) << file;
+    }
+  }
 }
 
 // The same strip with its rest coordinates rotated in the plane (an isotropic fabric):
