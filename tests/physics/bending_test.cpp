@@ -12,6 +12,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "mesh/generate.h"
 #include "physics/block_triplets.h"
 
 namespace tissu {
@@ -443,6 +444,49 @@ TEST(Bending, CylinderEnergyOnIrregularMeshes) {
       }
       std::printf("\n");
     }
+  }
+}
+
+// A uniformly bent sheet with free edges: the whole sheet, its boundary triangles included,
+// rolled onto a cylinder of radius R holds B/(2 R^2) times its area, on each kind of mesh a
+// scene gets: union jack (Tissu's regular rectangle), one diagonal, and Tissu's irregular
+// Delaunay rectangle.
+Sheet sheet_of(const TriMesh& mesh) {
+  Sheet s;
+  s.triangles = mesh.triangles;
+  s.uv = mesh.rest_uv;
+  double edges = 0.0;
+  for (const Tri& t : s.triangles) {
+    for (int k = 0; k < 3; ++k) edges += (s.uv[t[k]] - s.uv[t[(k + 1) % 3]]).norm();
+  }
+  s.spacing = edges / (3.0 * s.triangles.size());
+  finish(s);
+  return s;
+}
+
+TEST(Bending, UniformlyBentSheetWithFreeEdges) {
+  const double B = 2e-5;  // N*m
+  struct Case {
+    const char* name;
+    Sheet sheet;
+  };
+  const Case cases[] = {
+      {"union jack", sheet_of(generate_rectangle(0.6, 0.4, 1200, false, 0))},
+      {"one diagonal", grid_sheet(30, 20, 0.6, 0.4, 0.0, false, 0)},
+      {"irregular", sheet_of(generate_rectangle(0.6, 0.4, 1200, true, 3))}};
+  for (const Case& c : cases) {
+    const BendingModel m = build_bending(c.sheet.triangles, c.sheet.uv, B, -1.0);
+    std::printf("  %-12s (%zu triangles, mean edge %.3f m):", c.name, c.sheet.triangles.size(),
+                c.sheet.spacing);
+    for (double R : {0.5, 0.2, 0.1}) {  // m
+      for (const Roll& r : kRolls) {
+        const double E = bending_energy(m, roll(c.sheet, 1.0 / R, r.phi));
+        const double exact = B / (2 * R * R) * c.sheet.area;
+        if (r.phi == 0.0) std::printf("  R = %.1f m %+.2f%%", R, 100 * (E - exact) / exact);
+        EXPECT_NEAR(E, exact, 0.03 * exact) << c.name << ", " << r.name << ", R = " << R;
+      }
+    }
+    std::printf("\n");
   }
 }
 
