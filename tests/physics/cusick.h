@@ -112,6 +112,7 @@ struct DrapeResult {
   double seconds = 0.0;      // wall-clock time of the run, s (reported, never asserted)
   int vertices = 0, triangles = 0;
   double mean_edge = 0.0;    // m
+  double bending_energy = 0.0, membrane_energy = 0.0, gravity_energy = 0.0;  // J, at rest
   double force_residual = 0.0;  // largest force per weight on a free vertex at the end
   int folds = 0;             // waves of the rim's height around the disc
   Vec3List x;                // the draped shape
@@ -202,6 +203,9 @@ inline DrapeResult run_cusick(const DrapeSetup& s) {
   for (int i = 0; i < V; ++i) {
     if (!model.pinned[i]) result.force_residual = std::max(result.force_residual, f[i].norm() / model.mass[i] / 9.80665);
   }
+  result.bending_energy = bending_energy(*model.bending, state.x);
+  result.membrane_energy = elastic_energy(model, state.x) - result.bending_energy;
+  result.gravity_energy = gravity_potential(model, state.x);
   result.folds = rim_waves(model.rest_uv, state.x, s.radius);
   result.x = state.x;
   result.mesh = model.triangles;

@@ -48,10 +48,11 @@ DrapeResult run(const char* what, const DrapeSetup& s) {
   const DrapeResult r = testing::run_cusick(s);
   std::printf(
       "  %s: %s, %d triangles (%s, mean edge %.1f mm), mesh turned %.2f rad: DC %.4f, %d "
-      "folds, at rest after %.2f s (%lld steps, largest force %.1e of the weight), %.1f s\n",
+      "folds, at rest after %.2f s (%lld steps, largest force %.1e of the weight), energy "
+      "%.3e J bending, %.3e J membrane, %.1f s\n",
       what, s.material.name.c_str(), r.triangles, s.irregular ? "irregular" : "rings",
       1e3 * r.mean_edge, s.mesh_angle, r.coefficient, r.folds, r.time, r.steps,
-      r.force_residual, r.seconds);
+      r.force_residual, r.bending_energy, r.membrane_energy, r.seconds);
   std::fflush(stdout);
   EXPECT_TRUE(r.at_rest) << what;
   return r;
@@ -88,7 +89,8 @@ TEST(CusickDrape, ProjectedAreaIsTheShadowsArea) {
 }
 
 // Finer meshes, the same fabric: 3000 -> 6000 triangles (mean edge 7.5 -> 5.3 mm, h -> h /
-// sqrt 2) moves the coefficient by less than 2 points (measured 0.008).
+// sqrt 2) moves the coefficient by less than 2 points (measured 0.009). The next step does
+// not: see the disabled test below.
 TEST(CusickDrape, RefiningTheMeshChangesTheCoefficientLittle) {
   const Material cotton = isotropic("cotton");
   const double coarse = run("coarse", drape(cotton, 3000)).coefficient;
@@ -97,8 +99,9 @@ TEST(CusickDrape, RefiningTheMeshChangesTheCoefficientLittle) {
 }
 
 // Not met yet: halving the edge, 3000 -> 12000 triangles (7.5 -> 3.7 mm), moves the
-// coefficient by 0.037 (0.545 -> 0.582; 6000 -> 12000: 0.029): the drape is not yet
-// converged at these resolutions (docs/bending.md, "Cusick's drape test"). About 2 minutes.
+// coefficient by 0.037 (0.545 -> 0.582; 6000 -> 12000: 0.029). The coefficient keeps
+// rising with refinement down to 2.6 mm edges; with the tensile stiffness divided by 100
+// it settles (docs/bending.md, "Cusick's drape test"). About 2 minutes.
 TEST(CusickDrape, DISABLED_HalvingTheEdgeChangesTheCoefficientLittle) {
   const Material cotton = isotropic("cotton");
   const double coarse = run("coarse", drape(cotton, 3000)).coefficient;
