@@ -140,6 +140,7 @@ TriMesh regular_disk(double radius, int triangles, double inner = 0.0) {
                   : 0;
   auto ring_radius = [&](int k) {
     if (inner_ring == 0 || inner_ring >= rings) return radius * k / rings;
+    if (k == rings) return radius;
     if (k == inner_ring) return inner;
     if (k < inner_ring) return inner * k / inner_ring;
     return inner + (radius - inner) * (k - inner_ring) / (rings - inner_ring);
@@ -150,7 +151,7 @@ TriMesh regular_disk(double radius, int triangles, double inner = 0.0) {
   for (int k = 1; k <= rings; ++k) {
     const int count = std::max(3, static_cast<int>(std::lround(per_ring * k)));
     std::vector<int> ring;
-    const double r = k == rings ? radius : ring_radius(k);
+    const double r = ring_radius(k);
     for (int i = 0; i < count; ++i) {
       const double angle = 2.0 * kPi * i / count;
       ring.push_back(static_cast<int>(points.size()));
