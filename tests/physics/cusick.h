@@ -41,11 +41,18 @@ inline double projected_area(const Vec3List& x, const TriList& triangles, double
     const double area2 = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
     if (area2 == 0.0) continue;  // seen edge-on: no shadow of its own
     const double s = area2 > 0.0 ? 1.0 : -1.0;
-    // Cell (i, j) has its centre at lo + (i + 1/2, j + 1/2) cell.
-    const int i0 = std::max(0, static_cast<int>(std::floor((std::min({a.x(), b.x(), c.x()}) - lo_x) / cell - 0.5)));
-    const int i1 = std::min(nx - 1, static_cast<int>(std::ceil((std::max({a.x(), b.x(), c.x()}) - lo_x) / cell - 0.5)));
-    const int j0 = std::max(0, static_cast<int>(std::floor((std::min({a.y(), b.y(), c.y()}) - lo_y) / cell - 0.5)));
-    const int j1 = std::min(ny - 1, static_cast<int>(std::ceil((std::max({a.y(), b.y(), c.y()}) - lo_y) / cell - 0.5)));
+    // Cell (i, j) has its centre at lo + (i + 1/2, j + 1/2) cell: the cells whose centres
+    // may lie in the triangle's bounding box.
+    auto first = [cell](double lo, double v) {
+      return std::max(0, static_cast<int>(std::floor((v - lo) / cell - 0.5)));
+    };
+    auto last = [cell](double lo, double v, int n) {
+      return std::min(n - 1, static_cast<int>(std::ceil((v - lo) / cell - 0.5)));
+    };
+    const int i0 = first(lo_x, std::min({a.x(), b.x(), c.x()}));
+    const int i1 = last(lo_x, std::max({a.x(), b.x(), c.x()}), nx);
+    const int j0 = first(lo_y, std::min({a.y(), b.y(), c.y()}));
+    const int j1 = last(lo_y, std::max({a.y(), b.y(), c.y()}), ny);
     auto side = [s](const Vec2& p, const Vec2& q, const Vec2& r) {
       return s * ((q - p).x() * (r - p).y() - (q - p).y() * (r - p).x());
     };
@@ -176,7 +183,9 @@ inline DrapeResult run_cusick(const DrapeSetup& s) {
   result.triangles = model.num_triangles();
   double edges = 0.0;
   for (const Tri& t : model.triangles) {
-    for (int k = 0; k < 3; ++k) edges += (model.rest_uv[t[k]] - model.rest_uv[t[(k + 1) % 3]]).norm();
+    for (int k = 0; k < 3; ++k) {
+      edges += (model.rest_uv[t[k]] - model.rest_uv[t[(k + 1) % 3]]).norm();
+    }
   }
   result.mean_edge = edges / (3.0 * model.num_triangles());
 
@@ -201,7 +210,9 @@ inline DrapeResult run_cusick(const DrapeSetup& s) {
   Vec3List f(V, Vec3::Zero());
   compute_forces(model, state.x, Vec3List(V, Vec3::Zero()), state.t, f);
   for (int i = 0; i < V; ++i) {
-    if (!model.pinned[i]) result.force_residual = std::max(result.force_residual, f[i].norm() / model.mass[i] / 9.80665);
+    if (model.pinned[i]) continue;
+    const double per_weight = f[i].norm() / (model.mass[i] * model.gravity->norm());
+    result.force_residual = std::max(result.force_residual, per_weight);
   }
   result.bending_energy = bending_energy(*model.bending, state.x);
   result.membrane_energy = elastic_energy(model, state.x) - result.bending_energy;
