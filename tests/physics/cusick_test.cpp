@@ -103,7 +103,7 @@ TEST(CusickDrape, RefiningTheMeshChangesTheCoefficientLittle) {
 // coefficient by 0.037 (0.545 -> 0.582; 6000 -> 12000: 0.029). The coefficient keeps
 // rising with refinement down to 2.6 mm edges; with the tensile stiffness divided by 100
 // it settles, and ten times the stiffness shows membrane locking (docs/bending.md,
-// "Cusick's drape test"). About 2 minutes.
+// "Cusick's drape test"). About a minute.
 TEST(CusickDrape, DISABLED_HalvingTheEdgeChangesTheCoefficientLittle) {
   const Material cotton = isotropic("cotton");
   const double coarse = run("coarse", drape(cotton, 3000)).coefficient;
