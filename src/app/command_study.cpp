@@ -235,8 +235,8 @@ int command_stability(const std::vector<std::string>& args) {
     if (interrupted) break;
   }
   const fs::path dir(out_dir);
-  write_text_output((dir / "stability.csv").string(), stability_csv(rows));
-  write_text_output((dir / "stability.md").string(), stability_markdown(rows, options));
+  write_text_file((dir / "stability.csv").string(), stability_csv(rows));
+  write_text_file((dir / "stability.md").string(), stability_markdown(rows, options));
   std::cerr << "tissu: stability: " << rows.size() << " searches written to " << out_dir << "\n";
   return interrupted ? kExitInterrupted : kExitOk;
 }

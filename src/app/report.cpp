@@ -128,17 +128,4 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
   return report;
 }
 
-void write_text_file(const std::string& path, const std::string& text) {
-  const std::string partial = partial_path_for(path);
-  FILE* file = std::fopen(partial.c_str(), "wb");
-  if (!file) throw OutputError(path + ": cannot write: " + errno_text(errno));
-  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
-  const int write_errno = errno;
-  if (std::fclose(file) != 0 || !written) {
-    discard_partial_file(partial);
-    throw OutputError(path + ": cannot write: " + errno_text(written ? errno : write_errno));
-  }
-  commit_partial_file(partial, path);
-}
-
 }  // namespace tissu

@@ -1,6 +1,8 @@
 // The run report (report.json): what ran, how it ended, time per stage, per-frame rows.
 #pragma once
 
+#include "video/partial_file.h"  // write_text_file, for the report
+
 #include <string>
 
 #include "app/run_loop.h"
@@ -13,7 +15,5 @@ nlohmann::ordered_json tissu_identity();
 
 nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const RunResult& result);
 
-// Writes `text` to `path` atomically (temporary file, then rename).
-void write_text_file(const std::string& path, const std::string& text);
 
 }  // namespace tissu

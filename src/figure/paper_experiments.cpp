@@ -681,20 +681,6 @@ void hung(const PaperOptions& o, Report& r) {
   r.md += t.markdown();
 }
 
-void write_atomically(const std::string& path, const std::string& text) {
-  const std::string partial = partial_path_for(path);
-  {
-    std::ofstream out(partial, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) {
-      discard_partial_file(partial);
-      throw OutputError(path + ": cannot write");
-    }
-  }
-  commit_partial_file(partial, path);
-}
-
 }  // namespace
 
 std::pair<std::string, std::string> run_paper_experiments(const PaperOptions& o) {
@@ -753,8 +739,8 @@ std::pair<std::string, std::string> run_paper_experiments(const PaperOptions& o)
   fs::create_directories(o.out_dir, ec);
   const std::string md_path = (fs::path(o.out_dir) / "paper-results.md").string();
   const std::string csv_path = (fs::path(o.out_dir) / "paper-results.csv").string();
-  write_atomically(md_path, r.md);
-  write_atomically(csv_path, csv);
+  write_text_file(md_path, r.md);
+  write_text_file(csv_path, csv);
   return {md_path, csv_path};
 }
 

@@ -1,13 +1,12 @@
 #include "physics/cloth_contact.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <numeric>
 
 #include "collision/bvh.h"
+#include "core/cpu_clock.h"
 #include "collision/ccd.h"
 #include "collision/closed_surface.h"
 #include "collision/primitive_distance.h"
@@ -124,11 +123,9 @@ void run_collision_stage(const Model& model, double t0, double dt, const Vec3Lis
                          State& state, Workspace& ws) {
   StepScratch& scratch = scratch_of(ws);
   if (!scratch.contact) scratch.contact = std::make_shared<ClothContact>();
-  timespec start{}, end{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &start);
+  const double start = thread_cpu_seconds();
   ws.contact.add(scratch.contact->resolve(model, t0, dt, x0, state.x, state.v));
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &end);
-  ws.contact_seconds += (end.tv_sec - start.tv_sec) + 1e-9 * (end.tv_nsec - start.tv_nsec);
+  ws.contact_seconds += thread_cpu_seconds() - start;
 }
 
 bool needs_cloth_contact(const Model& model) {

@@ -1,24 +1,9 @@
 #include "render/cpu_clock.h"
 
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 
 namespace tissu {
-
-namespace {
-
-double clock_seconds(clockid_t clock) {
-  timespec t;
-  clock_gettime(clock, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-}  // namespace
-
-double thread_cpu_seconds() { return clock_seconds(CLOCK_THREAD_CPUTIME_ID); }
-double process_cpu_seconds() { return clock_seconds(CLOCK_PROCESS_CPUTIME_ID); }
-double wall_seconds() { return clock_seconds(CLOCK_MONOTONIC); }
 
 double named_threads_cpu_seconds(const std::string& prefix) {
   namespace fs = std::filesystem;

@@ -1,15 +1,12 @@
-// CPU clocks for measuring the renderer on a loaded machine, where wall time says little:
-// the calling thread, the whole process, and threads picked by name (llvmpipe names its
-// rasterizer threads "llvmpipe-N").
+// Processor time of threads picked by name, for measuring the renderer (llvmpipe names its
+// rasterizer threads "llvmpipe-N"); the other clocks are in core/cpu_clock.h.
 #pragma once
 
 #include <string>
 
-namespace tissu {
+#include "core/cpu_clock.h"
 
-double thread_cpu_seconds();   // CLOCK_THREAD_CPUTIME_ID of the calling thread
-double process_cpu_seconds();  // CLOCK_PROCESS_CPUTIME_ID: every thread, also finished ones
-double wall_seconds();         // CLOCK_MONOTONIC
+namespace tissu {
 
 // CPU time so far of the live threads of this process whose name starts with `prefix`
 // (from /proc/self/task/*/schedstat; 0 where /proc is not available).

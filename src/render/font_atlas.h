@@ -3,6 +3,8 @@
 // Covers Latin-1 and Greek; other characters are drawn as '?'.
 #pragma once
 
+#include "core/utf8.h"  // decode_utf8
+
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -43,8 +45,6 @@ class FontAtlas {
   float ascent_ = 0, line_height_ = 0;
 };
 
-// Splits UTF-8 text into code points; invalid bytes become U+FFFD.
-std::vector<uint32_t> decode_utf8(const std::string& text);
 
 // Greedy word wrap of `text` into lines no wider than `max_width` pixels.
 std::vector<std::string> wrap_text(const FontAtlas& font, const std::string& text,

@@ -3,11 +3,10 @@
 
 #include <string>
 
+#include "video/partial_file.h"  // write_text_file
+
 namespace tissu {
 
-// Writes `text` to `path`: the file appears complete or not at all (temporary file, then
-// rename). Throws OutputError naming `path`.
-void write_text_output(const std::string& path, const std::string& text);
 
 // Number with `digits` significant digits in the shortest of fixed or exponent form ("%.3g").
 std::string sig(double value, int digits = 3);

@@ -10,37 +10,13 @@
 #include <iterator>
 
 #include "core/error.h"
+#include "core/utf8.h"
 
 #ifndef TISSU_PLOT_FONT_FILE
 #define TISSU_PLOT_FONT_FILE "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
 #endif
 
 namespace tissu {
-
-namespace {
-
-// UTF-8 to code points; invalid bytes become '?'.
-std::vector<int> decode_utf8(const std::string& s) {
-  std::vector<int> out;
-  for (size_t i = 0; i < s.size();) {
-    const unsigned char c = static_cast<unsigned char>(s[i]);
-    int cp = '?', len = 1;
-    if (c < 0x80) {
-      cp = c;
-    } else if ((c >> 5) == 0x6 && i + 1 < s.size()) {
-      cp = ((c & 0x1f) << 6) | (s[i + 1] & 0x3f);
-      len = 2;
-    } else if ((c >> 4) == 0xe && i + 2 < s.size()) {
-      cp = ((c & 0x0f) << 12) | ((s[i + 1] & 0x3f) << 6) | (s[i + 2] & 0x3f);
-      len = 3;
-    }
-    out.push_back(cp);
-    i += len;
-  }
-  return out;
-}
-
-}  // namespace
 
 struct PlotFont::Impl {
   std::vector<unsigned char> data;
@@ -69,7 +45,7 @@ TextBitmap PlotFont::render(const std::string& text, double pixel_height) const 
   stbtt_GetFontVMetrics(&info, &ascent, &descent, &gap);
   const int baseline = static_cast<int>(std::ceil(ascent * scale));
   const int height = baseline + static_cast<int>(std::ceil(-descent * scale)) + 1;
-  const std::vector<int> cps = decode_utf8(text);
+  const std::vector<uint32_t> cps = decode_utf8(text);
 
   // Pen positions first, to size the bitmap.
   std::vector<float> pen(cps.size());

@@ -3,21 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <sstream>
 
+#include "core/cpu_clock.h"
 #include "core/error.h"
 #include "physics/diagnostics.h"
 
 namespace tissu {
 
 namespace {
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 std::string format_joules(double e) {
   std::ostringstream s;

@@ -326,12 +326,12 @@ std::string study_markdown(const StudyResult& study, const std::string& plot_fil
 }
 
 void write_study_csv(const StudyResult& study, const std::string& path) {
-  write_text_output(path, study_csv(study));
+  write_text_file(path, study_csv(study));
 }
 
 void write_study_markdown(const StudyResult& study, const std::string& path,
                           const std::string& plot_file_name) {
-  write_text_output(path, study_markdown(study, plot_file_name));
+  write_text_file(path, study_markdown(study, plot_file_name));
 }
 
 void write_study_plot(const StudyResult& study, const std::string& path) {

@@ -23,6 +23,10 @@ void discard_partial_file(const std::string& partial_path) noexcept;
 // leave an empty final file); throws OutputError naming `final_path`.
 void sync_file_to_disk(const std::string& path, const std::string& final_path);
 
+// Writes `text` to `path` through the temporary file, so the file appears complete or not
+// at all; throws OutputError "<path>: cannot write: <reason>".
+void write_text_file(const std::string& path, const std::string& text);
+
 // strerror text for errno values, thread-safe.
 std::string errno_text(int error_number);
 
