@@ -213,14 +213,7 @@ bool job_complete(const BatchPlan& plan, size_t i) {
   return true;
 }
 
-std::string utc_now() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char out[32];
-  std::strftime(out, sizeof out, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return out;
-}
+std::string utc_now() { return utc_now("%Y-%m-%dT%H:%M:%SZ"); }
 
 std::string host_name() {
   char name[256] = {};

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/batch_spec.h"
+#include "core/utc_time.h"
 
 namespace tissu {
 
