@@ -188,6 +188,12 @@ bool job_complete(const BatchPlan& plan, size_t i) {
   if (plan.produce == "figure") {
     return fs::is_regular_file(dir / "figure.png", ec) && fs::is_regular_file(dir / "figure.report.json", ec);
   }
+  if (plan.produce == "paper") {
+    for (const char* f : {"paper-results.md", "paper-results.csv"}) {
+      if (!fs::is_regular_file(dir / f, ec)) return false;
+    }
+    return true;
+  }
   if (plan.produce == "study") {
     for (const char* f : {"study.csv", "study.md", "study.png"}) {
       if (!fs::is_regular_file(dir / f, ec)) return false;

@@ -1,5 +1,6 @@
 #include "app/batch_spec.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "figure/paper_experiments.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
 
@@ -147,7 +149,21 @@ BatchSpec parse_batch(const Json& doc, const Ordered& ordered, const std::string
   JsonReader r(doc, "");
   b.name = r.string("name", fs::path(file).stem().string());
   const bool has_figures = doc.contains("figures");
-  b.produce = r.choice("produce", {"run", "render", "stills", "figure", "study"}, has_figures ? "figure" : "render");
+  const bool has_experiments = doc.contains("experiments");
+  b.produce = r.choice("produce", {"run", "render", "stills", "figure", "study", "paper"},
+                       has_figures ? "figure" : has_experiments ? "paper" : "render");
+  if ((b.produce == "paper") != has_experiments) {
+    throw InputError(has_experiments ? r.path_of("produce") + ": a list of \"experiments\" produces \"paper\""
+                                     : r.path_of("produce") + ": \"paper\" needs \"experiments\", a list of the paper's experiments");
+  }
+  if (has_experiments) {
+    for (const char* key : {"scene", "scenes", "set", "grid", "list", "stills", "frames", "threads", "figures"}) {
+      if (doc.contains(key)) {
+        throw InputError(std::string(key) + ": a list of \"experiments\" takes no \"" + key +
+                         "\" (the paper's experiments use the scenes of \"paper_scenes\")");
+      }
+    }
+  }
   if ((b.produce == "figure") != has_figures) {
     throw InputError(has_figures ? r.path_of("produce") + ": a list of \"figures\" produces \"figure\""
                                  : r.path_of("produce") + ": \"figure\" needs \"figures\", a list of figure files");
@@ -175,8 +191,34 @@ BatchSpec parse_batch(const Json& doc, const Ordered& ordered, const std::string
   read_slurm(r, b.slurm);
   if (r.has("options")) b.options = checked_options(r.raw("options"), r.path_of("options"));
   r.accept("options");
-  for (const char* key : {"scene", "scenes", "set", "grid", "list", "figures"}) r.accept(key);
+  if (doc.contains("paper_scenes") && !has_experiments) {
+    throw InputError(r.path_of("paper_scenes") + ": only with \"experiments\"");
+  }
+  const std::string paper_scenes = r.string("paper_scenes", "../paper");  // next to scenes/batches/
+  for (const char* key : {"scene", "scenes", "set", "grid", "list", "figures", "experiments"}) r.accept(key);
   r.finish();
+
+  if (has_experiments) {
+    // One `tissu paper --experiments NAME` job each; the scenes directory is the job's
+    // scene_file, its results DIR/jobs/<name>/paper-results.md and .csv.
+    const Ordered& list = ordered["experiments"];
+    if (!list.is_array() || list.empty()) {
+      throw InputError("experiments: expected a non-empty list (timing, divergence, accuracy, hung)");
+    }
+    const std::vector<std::string> names = paper_experiment_names();
+    const std::string scenes = absolute_next_to(paper_scenes, file);
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string name = list[i].is_string() ? list[i].get<std::string>() : "";
+      if (std::find(names.begin(), names.end(), name) == names.end()) {
+        throw InputError(element_path("experiments", i) +
+                         ": expected one of timing, divergence, accuracy, hung");
+      }
+      b.jobs.push_back({name, scenes, {}});
+    }
+    make_names_unique(b.jobs);
+    b.hash = fnv1a_hex(doc.dump());
+    return b;
+  }
 
   if (has_figures) {
     const Ordered& figures = ordered["figures"];
@@ -297,6 +339,8 @@ std::vector<std::string> job_arguments(const BatchSpec& batch, const BatchJob& j
     args = {"figure", job.scene_file, "--out", job_dir + "/figure.png", "--quiet"};
   } else if (batch.produce == "study") {
     args = {"study", job.scene_file, "--out", job_dir, "--quiet"};
+  } else if (batch.produce == "paper") {
+    args = {"paper", "--experiments", job.name, "--scenes", job.scene_file, "--out", job_dir, "--quiet"};
   } else {
     args = {batch.produce == "run" ? "run" : "render", job.scene_file, "--out", job_dir,
             "--overwrite", "--quiet", "--threads", std::to_string(batch.threads)};

@@ -1,6 +1,8 @@
 // tissu paper: runs the experiments of the paper's section 4 and writes
 // DIR/paper-results.md and DIR/paper-results.csv (see src/figure/paper_experiments.h).
+#include <algorithm>
 #include <iostream>
+#include <sstream>
 
 #include "app/cli.h"
 #include "app/commands.h"
@@ -12,7 +14,7 @@ namespace tissu {
 namespace {
 
 const char* kUsage =
-    "usage: tissu paper [--scenes DIR] [--out DIR] [--repeats N] [--quick] [--quiet]\n"
+    "usage: tissu paper [--scenes DIR] [--out DIR] [--experiments LIST] [--repeats N] [--quick] [--quiet]\n"
     "Runs the experiments of the paper's section 4 on this machine and writes\n"
     "DIR/paper-results.md and DIR/paper-results.csv: time of 2000 iterations on Tissu 1 and\n"
     "Tissu 2 next to the paper's, divergence without position correction (and how it moves\n"
@@ -20,6 +22,8 @@ const char* kUsage =
     "reference, free fall, and the cloth hung at 3 points. Takes a few minutes.\n"
     "  --scenes DIR   the paper scenes (default scenes/paper)\n"
     "  --out DIR      where to write (default out/paper; docs/ holds the published run)\n"
+    "  --experiments LIST  comma-separated: timing, divergence, accuracy, hung (default all);\n"
+    "                 a batch runs each as a job of its own (docs/batch.md)\n"
     "  --repeats N    timed runs per case; fastest and median reported (default 5)\n"
     "  --quick        fewer iterations and cells: checks the command, not the results\n"
     "  --quiet        no progress lines\n"
@@ -43,6 +47,17 @@ int command_paper(const std::vector<std::string>& args) {
       o.scenes_dir = recorded();
     } else if (a == "--out") {
       o.out_dir = recorded();
+    } else if (a == "--experiments") {
+      std::stringstream list(recorded());
+      std::string name;
+      const std::vector<std::string> names = paper_experiment_names();
+      while (std::getline(list, name, ',')) {
+        if (std::find(names.begin(), names.end(), name) == names.end()) {
+          throw UsageError("tissu paper: --experiments: unknown experiment \"" + name +
+                           "\" (timing, divergence, accuracy, hung)");
+        }
+        o.experiments.push_back(name);
+      }
     } else if (a == "--repeats") {
       const std::string v = recorded();
       try {

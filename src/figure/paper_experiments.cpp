@@ -677,7 +677,18 @@ void hung(const PaperOptions& o, Report& r) {
 
 }  // namespace
 
+std::vector<std::string> paper_experiment_names() {
+  return {"timing", "divergence", "accuracy", "hung"};
+}
+
 std::pair<std::string, std::string> run_paper_experiments(const PaperOptions& o) {
+  for (const std::string& name : o.experiments) {
+    const std::vector<std::string> names = paper_experiment_names();
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      throw InputError("paper experiments: unknown experiment \"" + name +
+                       "\" (timing, divergence, accuracy, hung)");
+    }
+  }
   const long long iterations = o.quick ? 200 : 2000;
   for (const char* f : {"tissu1.json", "tissu2.json", "piece990.json", "hung3.json"}) {
     const fs::path p = fs::path(o.scenes_dir) / f;
@@ -714,10 +725,14 @@ std::pair<std::string, std::string> run_paper_experiments(const PaperOptions& o)
           " (other processes share the machine: wall times above the single-run minimum "
           "reflect them).\nThe paper's machine: Intel Core i5 680 @ 3.60 GHz, 4 GB RAM.\n\n";
 
-  timing(o, r, iterations);
-  divergence(o, r, iterations);
-  accuracy(o, r, iterations);
-  hung(o, r);
+  auto chosen = [&](const char* name) {
+    return o.experiments.empty() ||
+           std::find(o.experiments.begin(), o.experiments.end(), name) != o.experiments.end();
+  };
+  if (chosen("timing")) timing(o, r, iterations);
+  if (chosen("divergence")) divergence(o, r, iterations);
+  if (chosen("accuracy")) accuracy(o, r, iterations);
+  if (chosen("hung")) hung(o, r);
   r.md += "Load average at the end: " + load_average() + ". All experiments took " +
           fmt("%.0f", std::chrono::duration<double>(Clock::now() - start).count()) +
           " s of wall time.\n";

@@ -12,6 +12,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace tissu {
 
@@ -21,10 +22,15 @@ struct PaperOptions {
   std::string command_line;                 // shown in the generated document
   bool quick = false;   // fewer iterations and table cells: checks the command, not the results
   int repeats = 5;      // timed runs per case (the fastest and the median are reported)
+  // Which experiments (paper_experiment_names()); empty = all of them.
+  std::vector<std::string> experiments;
   std::function<void(const std::string&)> log;  // progress lines; may be empty
 };
 
-// Runs everything and writes the two files (atomically). Returns their paths.
+// "timing", "divergence", "accuracy", "hung": the experiments, in the order they run.
+std::vector<std::string> paper_experiment_names();
+
+// Runs the chosen experiments and writes the two files (atomically). Returns their paths.
 // Throws InputError for bad scenes, OutputError when the files cannot be written.
 std::pair<std::string, std::string> run_paper_experiments(const PaperOptions& options);
 

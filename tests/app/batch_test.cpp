@@ -43,7 +43,8 @@ class Batch : public tissu::test::TempDirTest {
   }
 
   std::string write_batch(const std::string& name, Json batch) {
-    if (!batch.contains("scene") && !batch.contains("scenes") && !batch.contains("figures")) {
+    if (!batch.contains("scene") && !batch.contains("scenes") && !batch.contains("figures") &&
+        !batch.contains("experiments")) {
       batch["scene"] = "fall.json";
     }
     const fs::path path = dir_ / name;
@@ -375,6 +376,32 @@ TEST_F(Batch, StudiesAreJobsWithTheirOptions) {
   EXPECT_TRUE(fs::exists(out / "contact_sheet.png"));
   const auto again = batch(file, out);
   EXPECT_NE(again.err.find("2 complete (skipped), 0 to run"), std::string::npos) << again.err;
+}
+
+// The paper's experiments, one job each: each writes the results of its own experiment.
+TEST_F(Batch, PaperExperimentsAreJobs) {
+  const std::string file = write_batch(
+      "b.json", {{"experiments", {"hung", "timing"}},
+                 {"paper_scenes", std::string(TISSU_SOURCE_DIR) + "/scenes/paper"},
+                 {"options", {"--quick"}}});
+  const fs::path out = dir_ / "out";
+  const auto r = batch(file, out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string hung = read_text(out / "jobs" / "hung" / "paper-results.md");
+  const std::string timing = read_text(out / "jobs" / "timing" / "paper-results.md");
+  EXPECT_NE(hung.find("--experiments hung"), std::string::npos) << hung;
+  EXPECT_NE(timing.find("--experiments timing"), std::string::npos) << timing;
+  EXPECT_NE(hung, timing);
+  EXPECT_TRUE(fs::exists(out / "jobs" / "timing" / "paper-results.csv"));
+  EXPECT_NE(read_text(out / "summary.csv").find("hung"), std::string::npos);
+  const auto again = batch(file, out);
+  EXPECT_NE(again.err.find("2 complete (skipped), 0 to run"), std::string::npos) << again.err;
+  // A name that is not one of the experiments is refused in one line.
+  const std::string bad = write_batch("bad.json", {{"experiments", {"timing", "speed"}}});
+  const auto refused = batch(bad, dir_ / "bad");
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("experiments[1]: expected one of timing, divergence, accuracy, hung"),
+            std::string::npos) << refused.err;
 }
 
 TEST_F(Batch, StatusListsEveryJob) {
