@@ -147,6 +147,9 @@ struct Renderer::Impl {
   const MeshBuffer& buffer_of(const ObstacleShape& shape);
 
   double aspect() const { return static_cast<double>(settings.width) / settings.height; }
+  std::optional<double> ground_height() const {
+    return settings.ground ? std::optional<double>(settings.ground->height) : std::nullopt;
+  }
   // Half size of the squares that stand for planes: well past the framed scene.
   float plane_half_size() const {
     return static_cast<float>(4.0 * (camera->target - camera->eye).norm());
@@ -196,9 +199,7 @@ void Renderer::Impl::draw(const FrameContent& content) {
   context.make_current();
   timer.start();
   check_cloth(content);
-  std::optional<double> ground_height;
-  if (settings.ground) ground_height = settings.ground->height;
-  if (!camera) camera = auto_camera(content, aspect(), settings.camera, ground_height);
+  if (!camera) camera = auto_camera(content, aspect(), settings.camera, ground_height());
 
   // Depth range: everything drawn, planes as their squares.
   const Box3 bounds = content_bounds(content);
@@ -535,9 +536,8 @@ void Renderer::fit_camera(const Box3& shown, const std::vector<ObstacleShape>& o
   for (const ObstacleShape& o : obstacles) {
     if (o.kind == ObstacleShape::Kind::Plane) planes.push_back(turned(o, impl_->to_render));
   }
-  std::optional<double> ground_height;
-  if (impl_->settings.ground) ground_height = impl_->settings.ground->height;
-  impl_->camera = auto_camera(box, planes, impl_->aspect(), impl_->settings.camera, ground_height);
+  impl_->camera =
+      auto_camera(box, planes, impl_->aspect(), impl_->settings.camera, impl_->ground_height());
 }
 
 void Renderer::draw(const FrameContent& content) {
