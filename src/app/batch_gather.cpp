@@ -25,16 +25,6 @@ std::string value_of(const std::string& assignment) {
   return eq == std::string::npos ? "" : assignment.substr(eq + 1);
 }
 
-nlohmann::json read_report(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) return nullptr;
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return nullptr;
-  }
-}
-
 std::string number_text(const nlohmann::json& value) {
   if (value.is_number_integer()) return std::to_string(value.get<long long>());
   if (value.is_number()) return format_number(value.get<double>());
@@ -81,7 +71,8 @@ std::vector<std::string> row_of(const BatchPlan& plan, size_t i, const std::vect
     }
     row.push_back(v);
   }
-  const nlohmann::json report = read_report(fs::path(plan.job_dir(i)) / "report.json");
+  const nlohmann::json report =
+      read_json_file(fs::path(plan.job_dir(i)) / "report.json").value_or(nlohmann::json(nullptr));
   const bool ran = s.status == "done" || s.status == "failed" || s.status == "interrupted";
   row.push_back(s.status);
   row.push_back(ran ? std::to_string(s.exit_code) : "");

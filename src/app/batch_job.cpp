@@ -6,13 +6,13 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <vector>
 
 #include "app/commands.h"
+#include "core/cpu_clock.h"
 #include "core/error.h"
 #include "core/executable_dir.h"
 #include "video/partial_file.h"
@@ -52,10 +52,6 @@ std::string tissu_program() {
   const ssize_t n = readlink("/proc/self/exe", buffer.data(), buffer.size() - 1);
   if (n <= 0) throw OutputError("cannot find the tissu program (/proc/self/exe)");
   return std::string(buffer.data(), static_cast<size_t>(n));
-}
-
-double seconds_now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 pid_t start_job(const BatchPlan& plan, size_t i, const std::string& executor) {
@@ -114,13 +110,13 @@ JobState finish_job(const BatchPlan& plan, size_t i, int wait_status, double wal
 }
 
 JobState run_job_here(const BatchPlan& plan, size_t i, const std::string& executor) {
-  const double start = seconds_now();
+  const double start = wall_seconds();
   const pid_t pid = start_job(plan, i, executor);
   int status = 0;
   while (waitpid(pid, &status, 0) < 0) {
     if (errno != EINTR) throw OutputError("cannot wait for job " + plan.jobs[i].name + ": " + errno_text(errno));
   }
-  return finish_job(plan, i, status, seconds_now() - start);
+  return finish_job(plan, i, status, wall_seconds() - start);
 }
 
 }  // namespace tissu

@@ -24,7 +24,4 @@ JobState finish_job(const BatchPlan& plan, size_t i, int wait_status, double wal
 // start_job, wait, finish_job: for one task of a scheduler's job array.
 JobState run_job_here(const BatchPlan& plan, size_t i, const std::string& executor);
 
-// Seconds since an arbitrary origin (steady clock).
-double seconds_now();
-
 }  // namespace tissu

@@ -8,6 +8,7 @@
 
 #include "app/batch_job.h"
 #include "app/signals.h"
+#include "core/cpu_clock.h"
 #include "core/error.h"
 #include "video/partial_file.h"
 #include "video/progress_bar.h"
@@ -29,7 +30,7 @@ bool run_local_pool(const BatchPlan& plan, const std::vector<size_t>& todo,
     while (!interrupt_requested() && next < todo.size() &&
            static_cast<int>(running.size()) < options.processes) {
       const size_t job = todo[next++];
-      running[start_job(plan, job, "local")] = {job, seconds_now()};
+      running[start_job(plan, job, "local")] = {job, wall_seconds()};
     }
     if (interrupt_requested() && !forwarded) {
       for (const auto& [pid, r] : running) ::kill(pid, SIGINT);
@@ -44,7 +45,7 @@ bool run_local_pool(const BatchPlan& plan, const std::vector<size_t>& todo,
     }
     const auto it = running.find(pid);
     if (it == running.end()) continue;
-    finish_job(plan, it->second.job, status, seconds_now() - it->second.start);
+    finish_job(plan, it->second.job, status, wall_seconds() - it->second.start);
     running.erase(it);
     ++finished;
     if (options.progress) progress.update(static_cast<long long>(finished));

@@ -25,16 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using Ordered = nlohmann::ordered_json;
 
-std::optional<nlohmann::json> read_json_file(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return std::nullopt;
-  }
-}
-
 Ordered plan_json(const BatchPlan& plan) {
   Ordered jobs = Ordered::array();
   for (const PlannedJob& j : plan.jobs) {
@@ -49,6 +39,16 @@ Ordered plan_json(const BatchPlan& plan) {
 }
 
 }  // namespace
+
+std::optional<nlohmann::json> read_json_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
+}
 
 std::string BatchPlan::job_dir(size_t i) const {
   return (fs::path(dir) / "jobs" / jobs.at(i).name).string();

@@ -4,8 +4,12 @@
 // alone, so a cluster node needs only DIR and the tissu program.
 #pragma once
 
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "app/batch_spec.h"
 #include "core/utc_time.h"
@@ -80,6 +84,9 @@ void write_job_state(const BatchPlan& plan, size_t i, const JobState& state);
 bool job_complete(const BatchPlan& plan, size_t i);
 
 std::string utc_now();   // "2026-11-25T15:02:53Z"
+// The JSON document in `path`; nullopt when it is missing or not valid JSON (a job's
+// state, report or the scheduler's record may be absent or cut short).
+std::optional<nlohmann::json> read_json_file(const std::filesystem::path& path);
 std::string host_name();
 
 }  // namespace tissu

@@ -105,15 +105,6 @@ std::string submit(const std::string& options, const std::string& script, const 
 
 }  // namespace
 
-std::string shell_quote(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) {
-    if (c == '\'') out += "'\\''";
-    else out += c;
-  }
-  return out + "'";
-}
-
 std::string index_ranges(const std::vector<size_t>& indices) {
   std::string out;
   for (size_t i = 0; i < indices.size();) {
@@ -171,15 +162,9 @@ struct SchedulerView {
 SchedulerView scheduler_view(const BatchPlan& plan) {
   const fs::path slurm_dir = fs::path(plan.dir) / "slurm";
   SchedulerView view;
-  nlohmann::json record;
-  std::ifstream in(slurm_dir / "submitted.json");
-  if (!in) return view;
-  try {
-    record = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return view;
-  }
-  if (!record.is_object()) return view;
+  const std::optional<nlohmann::json> submitted = read_json_file(slurm_dir / "submitted.json");
+  if (!submitted || !submitted->is_object()) return view;
+  const nlohmann::json& record = *submitted;
   view.array_job = record.value("array_job", "");
   view.gather_job = record.value("gather_job", "");
   if (view.gather_job.empty()) return view;

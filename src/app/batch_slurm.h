@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/batch_plan.h"
+#include "app/shell_words.h"  // shell_quote, for the scripts
 
 namespace tissu {
 
@@ -31,8 +32,5 @@ int print_batch_status(const BatchPlan& plan, std::ostream& out);
 
 // "0-3,5,7-8" for sorted indices.
 std::string index_ranges(const std::vector<size_t>& indices);
-
-// `text` in single quotes for /bin/sh.
-std::string shell_quote(const std::string& text);
 
 }  // namespace tissu

@@ -3,26 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "app/shell_words.h"
 #include "app/signals.h"
 #include "study/output.h"
 #include "study/probe.h"
 
 namespace tissu {
-
-namespace {
-
-// Single quotes for a POSIX shell, only where needed.
-std::string shell_word(const std::string& word) {
-  if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                              "0123456789._-/=,:+") == std::string::npos) {
-    return word;
-  }
-  std::string quoted = "'";
-  for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
-}  // namespace
 
 DivergenceHint find_divergence_hint(const Scene& scene, const Simulation& initial,
                                     const Divergence& divergence,

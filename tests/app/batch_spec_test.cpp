@@ -81,6 +81,8 @@ TEST(BatchHelpers, IndexRangesShellQuotesCsvFields) {
   EXPECT_EQ(tissu::index_ranges({0, 1, 2, 3, 5, 7, 8}), "0-3,5,7-8");
   EXPECT_EQ(tissu::index_ranges({4}), "4");
   EXPECT_EQ(tissu::shell_quote("/a b/it's"), "'/a b/it'\\''s'");
+  EXPECT_EQ(tissu::shell_word("scenes/a-1.json"), "scenes/a-1.json");
+  EXPECT_EQ(tissu::shell_word("my scene.json"), "'my scene.json'");
   EXPECT_EQ(tissu::csv_field("plain"), "plain");
   EXPECT_EQ(tissu::csv_field("a, \"b\""), "\"a, \"\"b\"\"\"");
 }
