@@ -23,8 +23,9 @@ struct DivergenceHint {
 // Tries dt/2, dt/4, ... on a fresh copy of `initial` (the scene's simulation at t = 0) up
 // to min(duration, 2 * the divergence time), stopping at the first stable one (probe.h:
 // no divergence, energy bound, no obstacle penetration) or when the next try would take
-// the search past `budget` triangle-steps (steps times triangles; 1e8 is about 2-4 s of
-// explicit steps here). Deterministic: the budget counts work, not time.
+// the search past `budget` triangle-steps (steps times triangles; 1e8 is about 2 s of
+// explicit steps at docs/performance.md's 21 ns per triangle-step). Deterministic: the
+// budget counts work, not time.
 DivergenceHint find_divergence_hint(const Scene& scene, const Simulation& initial,
                                     const Divergence& divergence,
                                     const std::vector<std::string>& overrides,
