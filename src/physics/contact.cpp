@@ -11,8 +11,36 @@ void ContactSet::clear(int num_vertices) {
   if (memory_.size() != static_cast<size_t>(num_vertices)) memory_.assign(num_vertices, Memory{});
 }
 
+namespace {
+
+// Coulomb's law at a new contact, from the vertex's velocity v when it was caught: the
+// impulse that stops its approach (and gravity's push into the surface over beta) against
+// the one that stops its sliding (and gravity's pull along it). It sticks when mu times the
+// first holds the second; otherwise it slides with friction mu times the first against the
+// sliding. The solve then checks the mode (switch_modes); a good first guess saves the
+// Newton iterations of a switch.
+void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& gravity,
+                  double beta) {
+  const Vec3 relative = v - c.surface_velocity;
+  const double approach = std::max(0.0, -c.normal.dot(relative)) +
+                          beta * std::max(0.0, -c.normal.dot(gravity));  // m/s
+  Vec3 sliding = relative + beta * gravity;
+  sliding -= c.normal.dot(sliding) * c.normal;  // m/s
+  const double speed = sliding.norm();
+  if (speed <= c.friction * approach || speed == 0.0) {
+    c.mode = ContactMode::Stick;
+    return;
+  }
+  c.mode = ContactMode::Slide;
+  c.friction_impulse = -(c.friction * mass * approach / speed) * sliding;
+}
+
+}  // namespace
+
 int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& placed,
-                       const Vec3List& x_end, double margin, double remembered_margin) {
+                       const Vec3List& x_end, double margin, double remembered_margin,
+                       const Vec3List* velocities, double beta) {
+  const Vec3 gravity = model.gravity ? *model.gravity : Vec3::Zero();
   int added = 0;
   for (int i = 0; i < model.num_vertices(); ++i) {
     if (model.pinned[i] || of_vertex_[i] >= 0) continue;
@@ -47,6 +75,8 @@ int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& pl
     } else if (last.in_contact) {
       c.mode = last.mode;
       c.friction_impulse = last.friction_impulse;
+    } else if (velocities) {
+      predict_mode(c, (*velocities)[i], model.mass[i], gravity, beta);
     } else {
       c.mode = ContactMode::Stick;
     }

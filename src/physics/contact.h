@@ -22,7 +22,8 @@
 // Once the step's solve has converged, a sticking contact whose |J_t| exceeds mu J_n slides
 // and a sliding one that its friction turned back sticks, and the solve goes on (each
 // contact switches at most twice in a step, so the set settles). A new contact on an
-// obstacle with friction sticks.
+// obstacle with friction starts in the mode Coulomb's law predicts from the velocity it
+// was caught with (sticking when no velocity is given).
 #pragma once
 
 #include <Eigen/Core>
@@ -65,10 +66,12 @@ class ContactSet {
   // Adds a contact for each free vertex without one whose end position x_end lies closer
   // to an obstacle than its thickness plus `margin` (m), at the obstacle's closest point;
   // for a vertex in contact at the end of the last step, plus the larger of `margin` and
-  // `remembered_margin` (m); for one released then, only once inside. Returns how many
-  // were added.
+  // `remembered_margin` (m); for one released then, only once inside. A new contact with
+  // friction starts sticking, or, given the velocities (m/s) and the step's beta (s), in
+  // the mode Coulomb's law predicts from them. Returns how many were added.
   int detect(const Model& model, const std::vector<PlacedObstacle>& placed,
-             const Vec3List& x_end, double margin, double remembered_margin = 0.0);
+             const Vec3List& x_end, double margin, double remembered_margin = 0.0,
+             const Vec3List* velocities = nullptr, double beta = 0.0);
 
   // The normal velocity of every contact that puts x_end on its plane:
   // (offset - n . x_end_base) / beta_end.

@@ -8,6 +8,7 @@
 #include "physics/bending.h"
 #include "physics/cloth_contact.h"
 #include "physics/contact.h"
+#include "physics/diagnostics.h"
 #include "physics/force_plan.h"
 #include "physics/forces.h"
 #include "physics/linear_solver.h"
@@ -408,7 +409,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     // A vertex in contact at the end of the last step (and not released) is caught again
     // while its predicted gap is within the distance gravity moves it over the step.
     const double fall = model.gravity ? model.gravity->norm() * eq.beta_end * eq.beta_end : 0.0;
-    s.contacts.detect(model, s.placed, x_end, kPenetrationTolerance, fall);
+    s.contacts.detect(model, s.placed, x_end, kPenetrationTolerance, fall, &s.v, eq.beta);
     s.contacts.set_targets(s.x_end_base, eq.beta_end);
     s.contacts.project(s.v);
   }
@@ -517,7 +518,8 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     if (!s.placed.empty()) {
       t0 = std::clock();
       const Vec3List& x_end = end_positions(model, s, eq, state, s.v);
-      const int added = s.contacts.detect(model, s.placed, x_end, -kPenetrationTolerance);
+      const int added =
+          s.contacts.detect(model, s.placed, x_end, -kPenetrationTolerance, 0.0, &s.v, eq.beta);
       contact_changes += added;
       if (added > 0) {
         s.contacts.set_targets(s.x_end_base, eq.beta_end);
@@ -809,13 +811,41 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   ws.cg_iterations = cg;
 }
 
-// A substep whose Newton solve neither converged nor reduced the residual to this fraction
-// of its start is not kept: the step is taken again in twice as many substeps.
+// A substep whose Newton solve neither converged nor reduced the residual to
+// kRetryReduction of its start is not kept: the step is taken again in twice as many
+// substeps. In contact, solves that stop short of convergence have typically reduced their
+// residual 20 to 100 times while friction modes kept switching; taking them all again cost
+// the demo at 1/60 s 2.4 times the processor time for the same drape (docs/implicit.md).
+// So where nothing in the scene supplies energy (no wind, no moving obstacle), a substep
+// that reduced its residual to kLooseReduction is kept when it did not raise the total
+// energy: it is then as trustworthy as a converged one by the measure that matters here
+// (an unconverged step that gains energy at contact is taken again).
 constexpr double kRetryReduction = 0.01;
+constexpr double kLooseReduction = 0.1;
+
+bool supplies_energy(const Model& model) {
+  if (model.wind) return true;
+  for (const Obstacle& ob : model.obstacles) {
+    if (ob.motion.moves()) return true;
+  }
+  return false;
+}
+
+// Whether the substep just solved (report r) from a state of total energy e_start (J) is
+// kept.
+bool keep_substep(const Model& model, const State& state, const ImplicitReport& r,
+                  double e_start) {
+  if (r.converged || r.final_residual <= kRetryReduction * r.initial_residual) return true;
+  if (r.final_residual > kLooseReduction * r.initial_residual || supplies_energy(model)) {
+    return false;
+  }
+  return total_energy(model, state) <= e_start;
+}
 
 void integrate_implicit(const Model& model, State& state, Workspace& ws) {
   ImplicitSolver& s = solver_of(ws);
   const bool stage = needs_cloth_contact(model);
+  const bool closed = !supplies_energy(model);  // the energy rule of keep_substep applies
   int substeps = implicit_substeps(model, state);
   int newton = 0, cg = 0;
   for (;;) {
@@ -827,11 +857,11 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
     ws.contact_seconds = 0.0;
     bool kept = true;
     for (int k = 0; k < substeps && (kept || last_try); ++k) {
+      const double e_start = closed ? total_energy(model, state) : 0.0;
       substep(model, state, ws, s, h, state.t + k * h, stage);
       newton += ws.newton_iterations;
       cg += ws.cg_iterations;
-      const ImplicitReport& r = s.report;
-      kept = kept && (r.converged || r.final_residual <= kRetryReduction * r.initial_residual);
+      kept = kept && keep_substep(model, state, s.report, e_start);
     }
     if (kept || last_try) break;
     state = start;

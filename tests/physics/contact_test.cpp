@@ -223,8 +223,8 @@ TEST(Contact, InclineWithFrictionAboveTanASticks) {
 }
 
 // Friction below tan(a): the sheet slides with the acceleration g (sin a - mu cos a) of
-// Coulomb's law (its new contacts stick until their first solve shows friction cannot hold
-// them, within the first step).
+// Coulomb's law (its new contacts start sliding, as predicted from gravity's pull along the
+// incline against mu times its push into it).
 TEST(Contact, InclineWithFrictionBelowTanASlidesAgainstCoulombFriction) {
   const double degrees = 30.0, h = 1.0 / 30.0;
   const double a = degrees * M_PI / 180.0, mu = 0.5 * std::tan(a);
@@ -234,6 +234,36 @@ TEST(Contact, InclineWithFrictionBelowTanASlidesAgainstCoulombFriction) {
   for (int k = 0; k < steps; ++k) ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
   const double expected = kG * (std::sin(a) - mu * std::cos(a)) * steps * h;  // m/s
   for (const Vec3& v : in.sheet.state.v) EXPECT_NEAR(v.dot(in.down_slope), expected, 1e-6 * expected);
+}
+
+// A new contact with friction starts in the mode Coulomb's law predicts from the velocity
+// it was caught with: a vertex skimming the plane fast slides, with friction mu times the
+// impulse that stops its approach (and gravity's push over the step), against its sliding;
+// one landing steeply sticks. Without velocities a new contact sticks.
+TEST(Contact, NewContactStartsInTheModeCoulombPredicts) {
+  const double h = 1.0 / 60.0, mu = 0.5;
+  Sheet s = cotton_sheet(0.2, 2, Integrator::BackwardEuler, h);
+  const Obstacle ground = plane(Vec3(0, 0, 0), Vec3(0, 0, 1), mu, 0.0);
+  const std::vector<PlacedObstacle> placed = {place_obstacle(ground, 0.0)};
+  Vec3List x_end = s.state.x;
+  for (Vec3& x : x_end) x.z() = 0.01;  // all clear of the plane
+  x_end[0].z() = -1e-3;                // vertex 0 inside
+  auto caught = [&](const Vec3& v0, bool with_velocities) {
+    Vec3List v(x_end.size(), Vec3::Zero());
+    v[0] = v0;
+    ContactSet contacts;
+    contacts.clear(s.model.num_vertices());
+    EXPECT_EQ(contacts.detect(s.model, placed, x_end, 0.0, 0.0, with_velocities ? &v : nullptr, h),
+              1);
+    return contacts.contacts().at(0);
+  };
+  const VertexContact skimming = caught(Vec3(2.0, 0.0, -0.1), true);
+  EXPECT_EQ(skimming.mode, ContactMode::Slide);
+  const double approach = 0.1 + kG * h;  // m/s
+  const Vec3 expected = -mu * s.model.mass[0] * approach * Vec3::UnitX();
+  EXPECT_LT((skimming.friction_impulse - expected).norm(), 1e-12 * expected.norm());
+  EXPECT_EQ(caught(Vec3(0.05, 0.0, -2.0), true).mode, ContactMode::Stick);
+  EXPECT_EQ(caught(Vec3(2.0, 0.0, -0.1), false).mode, ContactMode::Stick);
 }
 
 // --- Spheres ---------------------------------------------------------------------------

@@ -1,0 +1,72 @@
+// Where an implicit run of a scene spends its steps: per step the substeps, Newton and CG
+// iterations (totals over the substeps and any retry), the contacts at the end of the step
+// and the step's processor time (one thread). Totals at the end.
+//   ./build/bench/tissu_implicit_profile SCENE [--set KEY=VALUE]... [--every N]
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "physics/implicit.h"
+#include "physics/step.h"
+#include "scene/scene.h"
+
+using namespace tissu;
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s SCENE [--set KEY=VALUE]... [--every N]\n", argv[0]);
+    return 2;
+  }
+  std::vector<std::string> overrides;
+  int every = 1;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--set" && i + 1 < argc) {
+      overrides.push_back(argv[++i]);
+    } else if (a == "--every" && i + 1 < argc) {
+      every = std::atoi(argv[++i]);
+    } else {
+      std::fprintf(stderr, "%s: unknown argument '%s'\n", argv[0], a.c_str());
+      return 2;
+    }
+  }
+  Scene scene;
+  Simulation sim;
+  try {
+    scene = load_scene(argv[1], overrides);
+    sim = build_simulation(scene);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
+  }
+  Workspace ws;
+  ws.threads = 1;
+  std::printf("%6s %8s %4s %6s %6s %8s %8s\n", "step", "t s", "sub", "newton", "cg",
+              "contacts", "ms");
+  double total = 0.0;
+  long long newton = 0, cg = 0;
+  for (long long k = 0; k < scene.steps; ++k) {
+    const std::clock_t t0 = std::clock();
+    const auto divergence = step(sim.model, sim.state, ws);
+    const double ms = 1e3 * static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
+    total += ms;
+    newton += ws.newton_iterations;
+    cg += ws.cg_iterations;
+    const ImplicitReport* r = last_implicit_report(ws);
+    if (r && (k % every == 0 || divergence)) {
+      std::printf("%6lld %8.4f %4d %6d %6d %8d %8.1f\n", k, sim.state.t, ws.substeps,
+                  ws.newton_iterations, ws.cg_iterations, r->contacts, ms);
+    }
+    if (divergence) {
+      std::printf("diverged at t = %g s: %s\n", divergence->time, divergence->reason.c_str());
+      break;
+    }
+  }
+  std::printf("total %.1f ms over %lld steps: %.2f ms/step, %.2f Newton/step, %.1f CG/Newton\n",
+              total, scene.steps, total / scene.steps, double(newton) / scene.steps,
+              double(cg) / std::max(1LL, newton));
+  return 0;
+}
