@@ -78,19 +78,19 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
   report["ms_per_step"] = result.steps_done > 0 ? 1e3 * t.simulate / result.steps_done : 0.0;
   if (model.integrator == Integrator::BackwardEuler || model.integrator == Integrator::Bdf2 ||
       model.integrator == Integrator::ImplicitMidpoint) {
-    report["newton_iterations"] = result.newton_iterations;
-    report["cg_iterations"] = result.cg_iterations;
+    report["newton_iterations"] = result.totals.newton_iterations;
+    report["cg_iterations"] = result.totals.cg_iterations;
   }
   if (needs_cloth_contact(model)) {
     const double steps = std::max<double>(1.0, static_cast<double>(result.steps_done));
-    report["contact"] = {{"cpu_s", result.contact_seconds},
-                         {"ms_per_step", 1e3 * result.contact_seconds / steps},
-                         {"proximity_impulses", result.contact_proximities},
-                         {"impacts", result.contact_impacts},
-                         {"list_rebuilds", result.contact_rebuilds},
-                         {"impact_zones", result.contact_zones},
-                         {"rigid_zones", result.contact_rigid_zones},
-                         {"unresolved_impacts", result.contact_unresolved}};
+    report["contact"] = {{"cpu_s", result.totals.contact_seconds},
+                         {"ms_per_step", 1e3 * result.totals.contact_seconds / steps},
+                         {"proximity_impulses", result.totals.contact_proximities},
+                         {"impacts", result.totals.contact_impacts},
+                         {"list_rebuilds", result.totals.contact_rebuilds},
+                         {"impact_zones", result.totals.contact_zones},
+                         {"rigid_zones", result.totals.contact_rigid_zones},
+                         {"unresolved_impacts", result.totals.contact_unresolved}};
   }
   if (!result.checks.empty()) {
     size_t dirty = 0;

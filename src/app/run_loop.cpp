@@ -50,8 +50,7 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
   const auto run_start = std::chrono::steady_clock::now();
   const Model& model = sim.model;
   State& state = sim.state;
-  Workspace ws;
-  ws.threads = options.threads;
+  Stepper stepper(model, state, options.threads);
   RunResult result;
   result.threads = force_threads(options.threads, model);
   Vec3List last_frame_x = state.x;  // final.obj falls back to it after a divergence
@@ -88,13 +87,13 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
   if (options.max_frames >= 0) total_frames = std::min(total_frames, options.max_frames);
   ProgressBar progress = ProgressBar::on_stderr(options.progress_label, scene.steps);
   progress.count_frames(total_frames, frame_time(total_frames - 1));
-  State before;  // the state before the step, kept when a frame falls inside the step
+  const State& before = stepper.before();  // kept when a frame falls inside the step
   State between;
 
   for (long long s = 0;; ++s) {
     const bool last = s == scene.steps;
     // Frames that fall inside the step just taken, then one at its end.
-    if (s > 0 && !before.x.empty()) {
+    if (s > 0 && stepper.has_before()) {
       while (wants_frame() && frame_time(next_frame) < state.t - kSameTime * model.dt) {
         const double w = (frame_time(next_frame) - before.t) / (state.t - before.t);
         between.t = frame_time(next_frame);
@@ -127,26 +126,9 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
       break;
     }
     // Keep the state before the step when the next frame falls inside it.
-    before.x.clear();
-    if (frame_time(next_frame) < state.t + (1.0 - kSameTime) * model.dt) {
-      before.x = state.x;
-      before.v = state.v;
-      before.t = state.t;
-      before.step = state.step;
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    const std::optional<Divergence> divergence = step(model, state, ws);
+    const std::optional<Divergence> divergence =
+        stepper.advance(frame_time(next_frame) < state.t + (1.0 - kSameTime) * model.dt);
     end_recorded = false;
-    result.times.simulate += seconds_since(t0);
-    result.newton_iterations += ws.newton_iterations;
-    result.cg_iterations += ws.cg_iterations;
-    result.contact_seconds += ws.contact_seconds;
-    result.contact_proximities += ws.contact.proximities;
-    result.contact_impacts += ws.contact.impacts;
-    result.contact_rebuilds += ws.contact.rebuilt ? 1 : 0;
-    result.contact_zones += ws.contact.zones;
-    result.contact_rigid_zones += ws.contact.rigid_zones;
-    result.contact_unresolved += ws.contact.unresolved;
     result.steps_done = s + 1;
     if (divergence) {
       result.status = RunStatus::Diverged;
@@ -154,6 +136,8 @@ RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& 
       break;
     }
   }
+  result.totals = stepper.totals();
+  result.times.simulate = result.totals.wall_seconds;
   // The report ends on the state the run ends on, also between frame times (not a frame
   // of the video).
   if (!end_recorded && result.status != RunStatus::Diverged) {

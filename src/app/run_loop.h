@@ -9,6 +9,7 @@
 #include "app/frame_check.h"
 #include "physics/diagnostics.h"
 #include "physics/step.h"
+#include "physics/stepper.h"
 #include "scene/scene.h"
 
 namespace tissu {
@@ -61,13 +62,7 @@ struct RunResult {
   std::optional<FrameStats> end;
   StageTimes times;
   int threads = 1;            // threads the steps used (force_threads of the request)
-  int newton_iterations = 0;  // totals over the run (implicit integrators)
-  long long cg_iterations = 0;
-  // The collision stage (physics/cloth_contact.h), when the scene has one: processor
-  // time and totals over the run.
-  double contact_seconds = 0.0;
-  long long contact_proximities = 0, contact_impacts = 0, contact_rebuilds = 0, contact_zones = 0,
-            contact_rigid_zones = 0, contact_unresolved = 0;
+  StepTotals totals;          // what the steps did and cost, summed over the run
   std::vector<FrameCheck> checks;  // with RunOptions::check, one per frame
 };
 

@@ -1,10 +1,10 @@
 #include "figure/panel.h"
 
-#include <chrono>
 #include <sstream>
 
 #include "figure/obstacle_shape.h"
 #include "figure/scene_render_settings.h"
+#include "physics/stepper.h"
 #include "render/scene_bounds.h"
 
 namespace tissu {
@@ -89,31 +89,23 @@ PanelRun run_panel(const Scene& scene, long long step_shown, long long frame_eve
   const Model& model = run.sim.model;
   State& state = run.sim.state;
   run.initial_x = state.x;
-  Workspace ws;
-  State good;  // the state before the step being taken
+  Stepper stepper(model, state);
   auto frame_due = [&](long long s) {
     return on_frame && (s == step_shown || (frame_every > 0 && s % frame_every == 0));
   };
   if (frame_due(0)) on_frame(model, state);
-  using Clock = std::chrono::steady_clock;
-  Clock::duration simulating{0};
   while (state.step < step_shown) {
-    good.x = state.x;
-    good.v = state.v;
-    good.t = state.t;
-    good.step = state.step;
-    const Clock::time_point t0 = Clock::now();
-    const std::optional<Divergence> divergence = step(model, state, ws);
-    simulating += Clock::now() - t0;
+    // The state before the step is kept: after a divergence the panel shows it.
+    const std::optional<Divergence> divergence = stepper.advance(true);
     if (divergence) {
       run.divergence = divergence;
-      std::swap(state, good);
+      stepper.restore_before();
       if (on_frame && !frame_due(state.step)) on_frame(model, state);  // video ends on it
       break;
     }
     if (frame_due(state.step)) on_frame(model, state);
   }
-  run.simulate_seconds = std::chrono::duration<double>(simulating).count();
+  run.simulate_seconds = stepper.totals().wall_seconds;
   return run;
 }
 

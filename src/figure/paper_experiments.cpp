@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "figure/panel.h"
 #include "physics/diagnostics.h"
+#include "physics/stepper.h"
 #include "render/renderer.h"
 #include "core/utc_time.h"
 #include "video/partial_file.h"
@@ -146,22 +147,18 @@ Outcome advance(const Model& model, const State& initial, long long steps, long 
                 const std::function<void(const State&)>& sample = {}) {
   Outcome out;
   State state = initial;
-  Workspace ws;
+  Stepper stepper(model, state);
   if (sample) sample(state);
-  Clock::duration spent{0};
   while (state.step < steps) {
-    out.state.x = state.x;
-    out.state.v = state.v;
-    out.state.t = state.t;
-    out.state.step = state.step;
-    const auto t0 = Clock::now();
-    out.divergence = step(model, state, ws);
-    spent += Clock::now() - t0;
-    if (out.divergence) break;
+    out.divergence = stepper.advance(true);  // the last good state, should this step diverge
+    if (out.divergence) {
+      stepper.restore_before();
+      break;
+    }
     if (sample && every > 0 && state.step % every == 0) sample(state);
   }
-  if (!out.divergence) out.state = std::move(state);
-  out.seconds = std::chrono::duration<double>(spent).count();
+  out.state = std::move(state);
+  out.seconds = stepper.totals().wall_seconds;
   return out;
 }
 

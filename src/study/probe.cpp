@@ -1,13 +1,12 @@
 #include "study/probe.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <sstream>
 
-#include "core/cpu_clock.h"
 #include "core/error.h"
 #include "physics/diagnostics.h"
+#include "physics/stepper.h"
 
 namespace tissu {
 
@@ -90,7 +89,7 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
   model.integrator = spec.integrator;
   model.dt = spec.dt;
   State state = base.state;
-  Workspace ws;
+  Stepper stepper(model, state);
 
   ProbeResult r;
   r.steps = static_cast<long long>(std::ceil(spec.duration / spec.dt - 1e-9));
@@ -108,7 +107,8 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
   std::vector<double> times = spec.sample_times;
   std::sort(times.begin(), times.end());
   size_t next = 0;
-  Vec3List x_prev, v_prev;  // state before the step that crosses a sample time
+  const Vec3List& x_prev = stepper.before().x;  // the state before a step that crosses a
+  const Vec3List& v_prev = stepper.before().v;  // sample time
 
   auto record_exact = [&](double t) {
     Sample s;
@@ -178,18 +178,8 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
       break;
     }
     // Keep the state before a step that passes over a sample time.
-    if (next < times.size() && times[next] < state.t + spec.dt - eps) {
-      x_prev = state.x;
-      v_prev = state.v;
-    }
-    const auto wall0 = std::chrono::steady_clock::now();
-    const double cpu0 = thread_cpu_seconds();
-    const std::optional<Divergence> divergence = step(model, state, ws);
-    r.cpu_seconds += thread_cpu_seconds() - cpu0;
-    r.wall_seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    r.newton_iterations += ws.newton_iterations;
-    r.cg_iterations += ws.cg_iterations;
+    const std::optional<Divergence> divergence =
+        stepper.advance(next < times.size() && times[next] < state.t + spec.dt - eps);
     r.steps_done = s + 1;
     if (divergence) {
       r.status = ProbeStatus::Diverged;
@@ -198,6 +188,10 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
     }
     if ((s + 1) % monitor_every == 0 && !monitor()) break;
   }
+  r.cpu_seconds = stepper.totals().cpu_seconds;
+  r.wall_seconds = stepper.totals().wall_seconds;
+  r.newton_iterations = stepper.totals().newton_iterations;
+  r.cg_iterations = stepper.totals().cg_iterations;
   r.simulated_time = static_cast<double>(r.steps_done) * spec.dt;
   return r;
 }

@@ -30,8 +30,8 @@ void expect_clean(const RunResult& r) {
   for (const FrameCheck& c : r.checks) {
     EXPECT_TRUE(c.clean()) << "step " << c.step << " (t = " << c.time << " s): " << c.first;
   }
-  EXPECT_EQ(r.contact_unresolved, 0);
-  EXPECT_GT(r.contact_proximities, 1000) << "the cloth must have met itself or the obstacle";
+  EXPECT_EQ(r.totals.contact_unresolved, 0);
+  EXPECT_GT(r.totals.contact_proximities, 1000) << "the cloth must have met itself or the obstacle";
 }
 
 TEST(ContactScenes, FoldHasNoCrossingInAnyFrame) {
