@@ -24,27 +24,8 @@ namespace {
 
 constexpr double kG = 9.81;  // m/s^2
 
-// A flat cotton sheet of nx x nx cells and side `size` (m), centred at the origin in the
-// x-y plane, at rest, with gravity, stepped by `integrator`.
-struct Sheet {
-  Model model;
-  State state;
-};
-
-Sheet cotton_sheet(double size, int nx, Integrator integrator, double dt, unsigned seed = 3) {
-  Sheet s;
-  Vec3List x;
-  s.model = testing::grid_model(size, size, nx, nx, 0.25, seed, &x);
-  s.model.material = *material_preset("cotton");
-  s.model.material.bending = 0.0;  // membrane only: no bending model to build
-  s.model.gravity = Vec3(0, 0, -kG);
-  s.model.integrator = integrator;
-  s.model.dt = dt;
-  precompute_rest(s.model);
-  s.state.x = x;
-  s.state.v.assign(x.size(), Vec3::Zero());
-  return s;
-}
+using testing::cotton_sheet;
+using testing::Sheet;
 
 Obstacle plane(const Vec3& point, const Vec3& normal, double friction, double thickness) {
   Obstacle ob;

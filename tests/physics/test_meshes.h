@@ -3,6 +3,7 @@
 
 #include <random>
 
+#include "physics/materials.h"
 #include "physics/model.h"
 
 namespace tissu::testing {
@@ -53,6 +54,30 @@ inline Material test_material() {
   mat.coupling = 120.0;
   mat.shear = 60.0;
   return mat;
+}
+
+// A flat cotton sheet (membrane only, no bending model to build) of nx x nx irregular cells
+// and side `size` (m), centred at the origin in the x-y plane, at rest, under gravity
+// (9.81 m/s^2 along -z), stepped by `integrator` at dt (s).
+struct Sheet {
+  Model model;
+  State state;
+};
+
+inline Sheet cotton_sheet(double size, int nx, Integrator integrator, double dt,
+                          unsigned seed = 3) {
+  Sheet s;
+  Vec3List x;
+  s.model = grid_model(size, size, nx, nx, 0.25, seed, &x);
+  s.model.material = *material_preset("cotton");
+  s.model.material.bending = 0.0;
+  s.model.gravity = Vec3(0, 0, -9.81);
+  s.model.integrator = integrator;
+  s.model.dt = dt;
+  precompute_rest(s.model);
+  s.state.x = x;
+  s.state.v.assign(x.size(), Vec3::Zero());
+  return s;
 }
 
 }  // namespace tissu::testing
