@@ -7,6 +7,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config git
   libeigen3-dev          # sparse matrices, conjugate gradients
+  libhwy-dev             # Google Highway: SIMD kernels, instruction set chosen at run time
   libsuitesparse-dev     # CHOLMOD sparse Cholesky (implicit integrators)
   libopenblas0-serial    # fast single-threaded BLAS under CHOLMOD (same result at any load)
   libglm-dev             # renderer maths
