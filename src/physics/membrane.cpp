@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "physics/membrane_simd.h"
+
 namespace tissu {
 
 namespace {
@@ -98,6 +100,17 @@ void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], V
 
 void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, int first,
                          int end, VertexForces out) {
+  const MembraneLayout* layout = model.membrane_layout.get();
+  if (layout && layout->mesh_id == model.mesh_id &&
+      layout->num_triangles == model.num_triangles()) {
+    add_membrane_forces_simd(model, *layout, x, v, first, end, out);
+  } else {
+    add_membrane_forces_scalar(model, x, v, first, end, out);
+  }
+}
+
+void add_membrane_forces_scalar(const Model& model, const Vec3List& x, const Vec3List* v,
+                                int first, int end, VertexForces out) {
   double* base = out.data[0].data();
   if (model.material.damping > 0.0 && v != nullptr) {
     accumulate_forces<true>(model, x, v, first, end, out.first_vertex, base);

@@ -24,9 +24,14 @@ double triangle_energy(const TriangleRest& rest, const Mat3& E, const Vec3& a, c
 void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], Vec3 f[3]);
 
 // Adds the membrane forces of triangles [first, end) (and their strain-rate damping forces
-// when the material has damping and `v` is given).
+// when the material has damping and `v` is given), N: with the vectorised kernel
+// (membrane_simd.h) when the model has its layout, else the scalar one. Both give the
+// same bits.
 void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, int first,
                          int end, VertexForces out);
+// The same with the scalar kernel, one triangle after the other: the reference.
+void add_membrane_forces_scalar(const Model& model, const Vec3List& x, const Vec3List* v,
+                                int first, int end, VertexForces out);
 
 // Total membrane energy, J.
 double membrane_energy(const Model& model, const Vec3List& x);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "physics/membrane_layout.h"
 
 namespace tissu {
 
@@ -71,6 +72,8 @@ void precompute_rest(Model& model) {
     model.mass[i] = model.material.density * model.lumped_area[i];
     model.inv_mass[i] = (model.pinned[i] || model.mass[i] <= 0.0) ? 0.0 : 1.0 / model.mass[i];
   }
+  model.membrane_layout = std::make_shared<const MembraneLayout>(
+      build_membrane_layout(model.triangles, model.rest, model.mesh_id));
 }
 
 }  // namespace tissu

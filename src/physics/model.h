@@ -16,6 +16,7 @@
 namespace tissu {
 
 struct BendingModel;  // physics/bending.h
+struct MembraneLayout;  // physics/membrane_layout.h
 
 // Fabric constants. E is the paper's eq. 5 matrix in Voigt order (uu, vv, uv):
 // [[weft, coupling, 0], [coupling, warp, 0], [0, 0, shear]].
@@ -100,6 +101,8 @@ struct Model {
   TriList triangles;            // (T) vertex ids
   Vec2List rest_uv;             // (V) rest coordinates, m
   std::vector<TriangleRest> rest;  // (T) eq. 1-2 factors
+  // The same factors laid out for the vectorised membrane kernel (membrane_simd.h).
+  std::shared_ptr<const MembraneLayout> membrane_layout;
   std::vector<double> mass;     // (V) lumped mass, kg (rho_A * area / 3 summed)
   std::vector<double> inv_mass; // (V) 1/kg, 0 for pinned vertices
   std::vector<double> lumped_area;  // (V) one third of the adjacent rest areas, m^2
@@ -146,8 +149,8 @@ struct State {
   StepHistory previous;  // empty unless an implicit integrator stepped
 };
 
-// Builds the rest data (eq. 1-2), lumped masses and areas from a mesh and a material, and
-// gives the model a new mesh_id.
+// Builds the rest data (eq. 1-2, and its vectorised layout), lumped masses and areas from a
+// mesh and a material, and gives the model a new mesh_id.
 // Throws InputError naming the triangle for degenerate rest triangles.
 void precompute_rest(Model& model);
 
