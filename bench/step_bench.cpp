@@ -156,7 +156,7 @@ void million_step() {
       rusage usage;
       getrusage(RUSAGE_SELF, &usage);
       std::printf("  memory: model %.1f MB + vector layout %.1f MB + state %.1f MB + step "
-                  "buffers %.1f MB = %.1f MB; process peak %.1f MB\n",
+                  "buffers %.1f MB = %.1f MB; process peak %.1f MiB\n",
                   model_mb, layout_mb, state_mb, step_mb,
                   model_mb + layout_mb + state_mb + step_mb, usage.ru_maxrss / 1024.0);
     }
