@@ -200,7 +200,8 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--no-avx512") == 0) {
       hwy::DisableTargets(HWY_AVX3 | HWY_AVX3_DL);
     } else {
-      std::fprintf(stderr, "usage: tissu_bench [--quick] [--threads N] [--no-million] [--no-avx512]\n");
+      std::fprintf(stderr,
+                   "usage: tissu_bench [--quick] [--threads N] [--no-million] [--no-avx512]\n");
       return 2;
     }
   }
