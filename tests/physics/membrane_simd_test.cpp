@@ -135,7 +135,7 @@ TEST(MembraneSimd, AgreesWithScalarWithinTolerance) {
 TEST(MembraneSimd, BitsEqualScalar) { check_all(/*exact=*/true); }
 
 // Every instruction set the kernel was built for that this processor has (AVX-512, AVX2,
-// SSE4, SSSE3, the 128-bit emulation): same bits as the scalar kernel on each width.
+// SSE4, SSSE3, the portable scalar code): same bits as the scalar kernel on each width.
 TEST(MembraneSimd, BitsEqualScalarOnEveryTarget) {
   const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
   ASSERT_FALSE(targets.empty());
