@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 
 #include "collision/bvh.h"
@@ -186,6 +187,28 @@ struct ClothContact::Impl {
   Vec3 frame_end = Vec3::Zero();           // and at its end
   std::vector<double> moved, moved_world;  // (V) largest distance from built_at this step, m
   bool built = false;
+  // When to look at a pair again (cloth pairs only, no mesh obstacle): a pair found apart
+  // at step s, with a(s) + b(s) below its slack (a, b: the farthest its two sides' points
+  // have moved from where the lists were built), cannot have its slack used up before
+  //   a(t) + b(t) <= a(s) + b(s) + 2 (swept(t) - swept(s)) + 2 reach(t) >= slack,
+  // where swept adds up, step by step, the largest motion of any vertex between the
+  // starts of consecutive steps (in the frame), and reach(t) is the largest motion
+  // within step t (a vertex's start at t is at most swept(t) - swept(s) from its start at
+  // s, and its end at most reach(t) from its start at t). Each pair waits in the bucket of
+  // wake = swept(s) + (slack - a(s) - b(s)) / 2 and is looked at again (with the exact
+  // test of select_active) only when swept + reach reaches its bucket: the many pairs far
+  // apart cost nothing per step, only those in or near contact do.
+  bool scheduled = false;           // the lists hold cloth pairs only: the schedule is used
+  double swept = 0.0;               // m, since the build
+  double reach = 0.0;               // m, this step
+  Vec3List last_start;              // (V) start of the previous step in the frame, m
+  double quantum = 0.0;             // m, bucket width of wake values
+  int64_t drained = 0;              // buckets up to this one are empty
+  static constexpr int kBuckets = 1024;
+  std::vector<std::vector<int>> buckets;  // (kBuckets) ring: bucket key % kBuckets
+  std::vector<int> due;             // pairs to look at in the next step whatever it does
+  std::vector<int> woken;           // the pairs looked at this step
+  bool fresh = false;               // the lists were just built: every pair is looked at
 
   // ---- per step ----
   const Model* model = nullptr;
@@ -227,6 +250,9 @@ struct ClothContact::Impl {
   void add_mesh_pairs(MeshFeatures& mesh, double reach);
   int kinematic_point(MeshFeatures& mesh, int mesh_index, int vertex);
   void select_active();
+  void start_schedule();
+  void wait(int pair, double a, double b);
+  bool apart(int pair, double* a, double* b) const;
   void find_supports(double t1);
   void measure_start();
   void proximity(ContactStats& stats);
@@ -329,10 +355,16 @@ bool ClothContact::Impl::lists_valid() {
   if (!built) return false;
   bool valid = true;
   const bool world = !meshes.empty();
+  double step2 = 0.0, within2 = 0.0;  // m^2, the schedule's motions (largest squared)
   for (int i = 0; i < V; ++i) {
     const Vec3 a = (*x0)[i] - frame_start, b = (*x1)[i] - frame_end;
     moved[i] = std::sqrt(std::max((a - built_at[i]).squaredNorm(), (b - built_at[i]).squaredNorm()));
     if (valid && !(region[i].contains(a) && region[i].contains(b))) valid = false;
+    if (scheduled) {
+      step2 = std::max(step2, (a - last_start[i]).squaredNorm());
+      within2 = std::max(within2, (b - a).squaredNorm());
+      last_start[i] = a;
+    }
     if (!world) continue;
     const Vec3 &wa = (*x0)[i], &wb = (*x1)[i];
     moved_world[i] =
@@ -354,6 +386,10 @@ bool ClothContact::Impl::lists_valid() {
     }
     f.moved = most;
     if (most > f.margin) valid = false;
+  }
+  if (scheduled) {
+    swept += std::sqrt(step2);
+    reach = std::sqrt(within2);
   }
   return valid;
 }
@@ -447,6 +483,26 @@ void ClothContact::Impl::rebuild() {
     moved_world[i] = ((*x1)[i] - (*x0)[i]).norm();
   }
   built = true;
+  start_schedule();
+}
+
+// A new schedule from the build at x0: every pair is looked at in this step.
+void ClothContact::Impl::start_schedule() {
+  fresh = true;
+  scheduled = meshes.empty();
+  if (!scheduled) return;
+  swept = 0.0;
+  reach = 0.0;
+  for (int i = 0; i < V; ++i) reach = std::max(reach, moved[i]);
+  last_start = *x0;  // the frame starts at x0
+  // Wake values lie at most half the largest slack beyond swept: kBuckets - 4 buckets.
+  double widest = 0.0;
+  for (const Watch& w : watches) widest = std::max(widest, static_cast<double>(w.slack));
+  quantum = std::max(0.5 * widest / (kBuckets - 4), 1e-9);
+  buckets.resize(kBuckets);
+  for (std::vector<int>& b : buckets) b.clear();
+  due.clear();
+  drained = -1;
 }
 
 void ClothContact::Impl::add_self_pairs(double thickness) {
@@ -633,6 +689,35 @@ void ClothContact::Impl::add_mesh_pairs(MeshFeatures& f, double thickness) {
 // the lists were built, less how far their points have moved since, is a lower bound.
 void ClothContact::Impl::select_active() {
   active.clear();
+  if (scheduled) {
+    // The pairs whose wake value swept + reach may have reached (and those due anyway).
+    woken.swap(due);
+    due.clear();
+    const double threshold = (swept + reach) * (1.0 + 1e-9) + 1e-9;  // m, rounding covered
+    const int64_t key = static_cast<int64_t>(std::floor(threshold / quantum));
+    if (fresh) {
+      woken.resize(watches.size());
+      std::iota(woken.begin(), woken.end(), 0);
+      fresh = false;
+    } else {
+      const int64_t last = std::min(key, drained + kBuckets);
+      for (int64_t k = drained + 1; k <= last; ++k) {
+        std::vector<int>& bucket = buckets[k % kBuckets];
+        woken.insert(woken.end(), bucket.begin(), bucket.end());
+        bucket.clear();
+      }
+    }
+    drained = std::max(drained, key);
+    for (int k : woken) {
+      double a, b;
+      if (!apart(k, &a, &b)) active.push_back(k);
+      wait(k, a, b);
+    }
+    // In the order of the lists, as the full pass below gives them.
+    std::sort(active.begin(), active.end());
+    start_distance.resize(active.size());
+    return;
+  }
   // Obstacle vertices move with their obstacle.
   moved_world.resize(V + kinematic_body.size());
   for (size_t k = 0; k < kinematic_body.size(); ++k) moved_world[V + k] = meshes[kinematic_mesh[k]].moved;
@@ -648,6 +733,34 @@ void ClothContact::Impl::select_active() {
     active.push_back(static_cast<int>(k));
   }
   start_distance.resize(active.size());
+}
+
+// Whether a cloth pair cannot come within its thickness (or touch) this step, the test
+// of select_active; a and b receive how far its sides have moved since the build, m.
+bool ClothContact::Impl::apart(int pair, double* a, double* b) const {
+  const Watch& w = watches[pair];
+  const double* m = moved.data();
+  *a = w.edge_edge ? std::max(m[w.p[0]], m[w.p[1]]) : m[w.p[0]];
+  *b = w.edge_edge ? std::max(m[w.p[2]], m[w.p[3]])
+                   : std::max(m[w.p[1]], std::max(m[w.p[2]], m[w.p[3]]));
+  return w.slack > *a + *b;
+}
+
+// Files a pair looked at in this step under its wake value (see `scheduled`).
+void ClothContact::Impl::wait(int pair, double a, double b) {
+  const double left = static_cast<double>(watches[pair].slack) - (a + b);  // m
+  if (!(left > 0.0)) {
+    due.push_back(pair);
+    return;
+  }
+  const double key = std::floor((swept + 0.5 * left) / quantum);
+  if (!(key > static_cast<double>(drained))) {
+    due.push_back(pair);
+    return;
+  }
+  // Never farther than the ring holds (an earlier look is always safe).
+  const int64_t k = std::min(static_cast<int64_t>(key), drained + kBuckets - 1);
+  buckets[k % kBuckets].push_back(pair);
 }
 
 // The vertices of the active pairs that rest on an obstacle at the end of the step
