@@ -229,7 +229,7 @@ struct ClothContact::Impl {
   };
   std::vector<int> support_of;  // (V) index into supports, or -1
   std::vector<Support> supports;
-  std::vector<int> touched;     // vertices of the active pairs
+  std::vector<int> touched;     // vertices of the active pairs (find_supports)
   // Detection rounds: after the first of a step, a pair is checked again only when one of
   // its vertices changed since the round before (else it still cannot collide).
   int detection = 0;
@@ -350,8 +350,8 @@ bool ClothContact::Impl::lists_valid() {
   }
   if (free > 0) mean /= free;
   frame_end = frame_start + mean;
-  moved.assign(V, 0.0);
-  moved_world.assign(V, 0.0);
+  moved.resize(V);  // every entry is set below, or by rebuild()
+  moved_world.resize(V);
   if (!built) return false;
   bool valid = true;
   const bool world = !meshes.empty();
@@ -395,9 +395,10 @@ bool ClothContact::Impl::lists_valid() {
 }
 
 // After the stage: the end positions it produced are still in their regions (else the
-// lists may miss a pair and are rebuilt).
+// lists may miss a pair and are rebuilt). Only the vertices of active pairs can have
+// moved since the regions were checked (lists_valid) or made (rebuild).
 bool ClothContact::Impl::ends_in_regions() const {
-  for (int i = 0; i < V; ++i) {
+  for (int i : touched) {
     if (!region[i].contains((*x1)[i] - frame_end)) return false;
     if (!meshes.empty() && !world_region[i].contains((*x1)[i])) return false;
   }
@@ -763,13 +764,13 @@ void ClothContact::Impl::wait(int pair, double a, double b) {
   buckets[k % kBuckets].push_back(pair);
 }
 
-// The vertices of the active pairs that rest on an obstacle at the end of the step
-// (closer than its thickness plus a tenth of the largest pair thickness, or a micrometre).
+// The vertices of the active pairs (`touched`: the only ones the stage moves), and those
+// of them that rest on an obstacle at the end of the step (closer than its thickness plus
+// a tenth of the largest pair thickness, or a micrometre).
 void ClothContact::Impl::find_supports(double t1) {
   for (int i : touched) support_of[i] = -1;
   touched.clear();
   supports.clear();
-  if (model->obstacles.empty()) return;
   for (int a : active) {
     for (int id : pairs[a].p) {
       if (id < V && support_of[id] == -1) {
@@ -777,6 +778,10 @@ void ClothContact::Impl::find_supports(double t1) {
         touched.push_back(id);
       }
     }
+  }
+  if (model->obstacles.empty()) {
+    for (int i : touched) support_of[i] = -1;
+    return;
   }
   double band = 1e-6;
   for (int a : active) band = std::max(band, 0.1 * pairs[a].thickness);
