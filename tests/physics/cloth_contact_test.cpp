@@ -7,6 +7,7 @@
 #include <random>
 
 #include "collision/closed_surface.h"
+#include "collision/primitive_distance.h"
 #include "collision/crossings.h"
 #include "collision/test_surfaces.h"
 #include "physics/bending.h"
@@ -201,6 +202,83 @@ TEST(ClothContact, ResponseNeverAddsEnergy) {
       EXPECT_TRUE((x1[i] - x[i] - dt * v[i]).norm() < 1e-12) << "end position follows the velocity";
     }
   }
+}
+
+// A triangle held level at z = 0 and a small triangle above it pointing one corner down
+// at height `height`: two pieces of fabric (apart at rest).
+Model vertex_over_triangle(double height, Vec3List* x) {
+  Model m;
+  m.rest_uv = {Vec2(-0.1, -0.1), Vec2(0.1, -0.1), Vec2(0.0, 0.1),
+               Vec2(10.0, 0.0), Vec2(10.05, 0.05), Vec2(9.95, 0.05)};
+  m.triangles = {Tri(0, 1, 2), Tri(3, 4, 5)};
+  *x = {Vec3(-0.1, -0.1, 0.0), Vec3(0.1, -0.1, 0.0), Vec3(0.0, 0.1, 0.0),
+        Vec3(0.0, 0.0, height), Vec3(0.05, 0.05, height + 0.05), Vec3(-0.05, 0.05, height + 0.05)};
+  m.material = testing::test_material();
+  return m;
+}
+
+double corner_to_triangle(const Vec3List& x) {
+  return (x[3] - closest_on_triangle(x[3], x[0], x[1], x[2]).point).norm();
+}
+
+// The stage looks at a watched pair again only when a bound on how far its points may
+// have moved says it may be near (cloth_contact.cpp, `scheduled`). Here that bound is as
+// tight as it gets: the triangle rises and the corner falls, every vertex at the same
+// speed u (the cloth's mean motion is zero), so the pair's slack shrinks by 2 u dt a
+// step, as fast as the bound allows. The start is set so that the pair comes within the
+// thickness in step 40, a tenth of a step's approach before it: looked at one step late,
+// the corner would end 0.9 * 2 u dt (a third of the thickness) inside it.
+TEST(ClothContact, PairsApproachingAtTheBoundsSpeedAreCaughtInTime) {
+  constexpr double kThickness = 0.002, kDt = 1e-3, kSpeed = 0.3;  // m, s, m/s
+  const double approach = 2.0 * kSpeed * kDt;                     // m per step
+  Vec3List x;
+  Model m = vertex_over_triangle(kThickness + 40.1 * approach, &x);
+  m.self_collision = SelfCollision{kThickness, 0.0};
+  precompute_rest(m);
+  Vec3List v(6);
+  for (int i = 0; i < 6; ++i) v[i] = Vec3(0, 0, i < 3 ? kSpeed : -kSpeed);
+  ClothContact stage;
+  int rebuilds = 0, first_response = -1;
+  for (int k = 0; k < 80; ++k) {
+    Vec3List x1(6);
+    for (int i = 0; i < 6; ++i) x1[i] = x[i] + kDt * v[i];
+    const ContactStats stats = stage.resolve(m, k * kDt, kDt, x, x1, v);
+    rebuilds += stats.rebuilt;
+    if (stats.proximities > 0 && first_response < 0) first_response = k;
+    x = x1;
+    ASSERT_GE(corner_to_triangle(x), 0.99 * kThickness) << "step " << k;
+    ASSERT_FALSE(crosses(m, x)) << "step " << k;
+  }
+  EXPECT_EQ(first_response, 40);
+  EXPECT_EQ(rebuilds, 1);  // the lists of the first step served throughout
+}
+
+// The bound also counts how far a vertex may go within the step itself: here nothing
+// moves for ten steps, then the corner drops 4 mm in one, from 3 mm above the thickness
+// (its start has not moved, so only that term can wake the pair).
+TEST(ClothContact, PairsAreCaughtWhenAVertexJumpsAfterRest) {
+  constexpr double kThickness = 0.002, kDt = 1e-3, kDrop = 0.004;
+  Vec3List x;
+  Model m = vertex_over_triangle(kThickness + 0.003, &x);
+  m.self_collision = SelfCollision{kThickness, 0.0};
+  precompute_rest(m);
+  ClothContact stage;
+  int rebuilds = 0;
+  for (int k = 0; k < 12; ++k) {
+    Vec3List x1 = x, v(6, Vec3::Zero());
+    if (k == 10) {
+      v[3] = Vec3(0, 0, -kDrop / kDt);
+      x1[3] += kDt * v[3];
+    }
+    const ContactStats stats = stage.resolve(m, k * kDt, kDt, x, x1, v);
+    rebuilds += stats.rebuilt;
+    if (k == 10) {
+      EXPECT_GT(stats.proximities, 0);
+    }
+    x = x1;
+    ASSERT_GE(corner_to_triangle(x), 0.99 * kThickness) << "step " << k;
+  }
+  EXPECT_EQ(rebuilds, 1);
 }
 
 // A sheet sliding over a sheet held flat, pressed by gravity: without friction it keeps
