@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "physics/bending_simd.h"
 
 namespace tissu {
 
@@ -875,6 +876,11 @@ void add_bending_forces(const BendingModel& model, const Vec3List& x, Vec3List& 
 
 void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
                         int first, int end, VertexForces out) {
+  add_bending_forces_simd(model, x, origin, first, end, out);
+}
+
+void add_bending_forces_scalar(const BendingModel& model, const Vec3List& x,
+                               const Vec3& origin, int first, int end, VertexForces out) {
   const auto& Q = model.stiffness;
   const int* starts = Q.outerIndexPtr();
   const int* columns = Q.innerIndexPtr();

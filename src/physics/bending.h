@@ -99,8 +99,12 @@ Vec3 bending_origin(const Vec3List& x);
 
 // The bending forces of vertices [first, end) only: f_i -= sum_j Q_ij (x_j - origin).
 // Each vertex reads its own row of Q, so vertex blocks can run on separate threads.
+// Vectorised (bending_simd.h); the same bits as the scalar loop below.
 void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
                         int first, int end, VertexForces out);
+// The same, one coordinate after the other: the reference.
+void add_bending_forces_scalar(const BendingModel& model, const Vec3List& x,
+                               const Vec3& origin, int first, int end, VertexForces out);
 
 // Adds c_x df/dx = -c_x Q (x) I3 (N/m), the exact Jacobian of the bending forces: constant,
 // symmetric and negative semi-definite, so no definiteness projection is needed for
