@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "mesh/generate.h"
+#include "physics/bending.h"
 #include "physics/forces.h"
 #include "physics/materials.h"
 #include "physics/membrane.h"
@@ -84,10 +85,11 @@ double megabytes(const std::vector<T>& v) {
 
 // Membrane forces of every triangle, ns per triangle, with the scalar and the vectorised
 // kernel (one thread, CPU time, best of 5), undamped and with the preset's strain-rate
-// damping (velocities set to small random values).
+// damping (velocities set to small random values); then the bending forces (row "bending",
+// still ns per triangle) with the scalar loop and the vectorised one.
 void compare_kernels(bool quick) {
   std::printf("\nmembrane kernels, one thread (vector kernel on %s)\n", membrane_simd_target());
-  std::printf("%-10s %-8s %16s %16s %8s\n", "triangles", "damping", "scalar ns/tri",
+  std::printf("%-10s %-8s %16s %16s %8s\n", "triangles", "term", "scalar ns/tri",
               "vector ns/tri", "ratio");
   for (int requested : {4847, 50000}) {
     Setup s = make_setup(requested);
@@ -113,9 +115,28 @@ void compare_kernels(bool quick) {
                                      VertexForces::of(f));
           },
           calls, 5);
-      std::printf("%-10d %-8s %16.2f %16.2f %7.2fx\n", tris, damped ? "yes" : "no",
+      std::printf("%-10d %-8s %16.2f %16.2f %7.2fx\n", tris, damped ? "damped" : "membrane",
                   scalar * 1e9 / tris, vector * 1e9 / tris, scalar / vector);
     }
+    // Bending forces of every vertex (cotton's rigidity), per triangle as above.
+    const BendingModel bending = build_bending(s.model.triangles, s.model.rest_uv,
+                                               material_preset("cotton")->bending, -1.0);
+    const int verts = s.model.num_vertices();
+    const Vec3 origin = bending_origin(s.state.x);
+    const double scalar = best_seconds_per_call(
+        [&] {
+          std::fill(f.begin(), f.end(), Vec3::Zero());
+          add_bending_forces_scalar(bending, s.state.x, origin, 0, verts, VertexForces::of(f));
+        },
+        calls, 5);
+    const double vector = best_seconds_per_call(
+        [&] {
+          std::fill(f.begin(), f.end(), Vec3::Zero());
+          add_bending_forces(bending, s.state.x, origin, 0, verts, VertexForces::of(f));
+        },
+        calls, 5);
+    std::printf("%-10d %-8s %16.2f %16.2f %7.2fx\n", tris, "bending", scalar * 1e9 / tris,
+                vector * 1e9 / tris, scalar / vector);
   }
 }
 
