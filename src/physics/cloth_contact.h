@@ -35,8 +35,11 @@
 // regions around each vertex (its motion over the step plus a margin), reused for as
 // many steps as every vertex stays in its region (so the many tiny steps of explicit
 // integrators rebuild them rarely); a pair whose distance when the lists were built,
-// less how far its vertices have moved since, exceeds its thickness costs a few
-// comparisons per step. Tested in tests/physics/cloth_contact_test.
+// less how far its vertices have moved since, exceeds its thickness is skipped. Such a
+// pair is not even looked at again until a bound on that motion (the largest motion of
+// any vertex, summed over the steps since, plus the largest within the step) may have
+// used up its slack, so far pairs cost nothing per step. Tested in
+// tests/physics/cloth_contact_test.
 #pragma once
 
 #include <memory>
