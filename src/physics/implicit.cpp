@@ -40,6 +40,7 @@ struct ImplicitSolver {
   Eigen::VectorXd shift, shift_product;  // (3V) x(v) - x_n and A times it
   std::vector<double> triangle_energy;  // (T) membrane energies at the iterate, J
   Vec3List x_saved, v_saved;  // (V) x_n, v_n (become State::previous after the step)
+  Vec3List x_substep, v_substep;  // (V) start of the substep being judged, m and m/s
 
   ContactSet contacts;
   std::vector<PlacedObstacle> placed;  // obstacles at the end of the step
@@ -831,14 +832,16 @@ bool supplies_energy(const Model& model) {
   return false;
 }
 
-// Whether the substep just solved (report r) from a state of total energy e_start (J) is
-// kept.
+// Whether the substep just solved (report r) from positions x0 and velocities v0 is kept.
+// The energies are evaluated only for a substep that needs the energy rule.
 bool keep_substep(const Model& model, const State& state, const ImplicitReport& r,
-                  double e_start) {
+                  const Vec3List& x0, const Vec3List& v0) {
   if (r.converged || r.final_residual <= kRetryReduction * r.initial_residual) return true;
   if (r.final_residual > kLooseReduction * r.initial_residual || supplies_energy(model)) {
     return false;
   }
+  const double e_start =
+      kinetic_energy(model, v0) + elastic_energy(model, x0) + gravity_potential(model, x0);
   return total_energy(model, state) <= e_start;
 }
 
@@ -857,11 +860,14 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
     ws.contact_seconds = 0.0;
     bool kept = true;
     for (int k = 0; k < substeps && (kept || last_try); ++k) {
-      const double e_start = closed ? total_energy(model, state) : 0.0;
+      if (closed) {  // the substep's start, for the energy rule of keep_substep
+        s.x_substep = state.x;
+        s.v_substep = state.v;
+      }
       substep(model, state, ws, s, h, state.t + k * h, stage);
       newton += ws.newton_iterations;
       cg += ws.cg_iterations;
-      kept = kept && keep_substep(model, state, s.report, e_start);
+      kept = kept && keep_substep(model, state, s.report, s.x_substep, s.v_substep);
     }
     if (kept || last_try) break;
     state = start;
