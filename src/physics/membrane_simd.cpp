@@ -60,14 +60,19 @@ void Accumulate(const MembraneKernelArgs& k) {
                ru2 = hn::LoadU(d, L.ru2.data() + t);
     const auto rv0 = hn::LoadU(d, L.rv0.data() + t), rv1 = hn::LoadU(d, L.rv1.data() + t),
                rv2 = hn::LoadU(d, L.rv2.data() + t);
+    // U = sum_j r_uj p_j and V = sum_j r_vj p_j of the corners' values p (positions or
+    // velocities, 3 per vertex).
+    auto tangents = [&](const double* p, hn::Vec<D>* U, hn::Vec<D>* V) {
+      for (int c = 0; c < 3; ++c) {
+        const auto pa = hn::GatherIndex(d, p + c, ia);
+        const auto pb = hn::GatherIndex(d, p + c, ib);
+        const auto pc = hn::GatherIndex(d, p + c, ic);
+        U[c] = hn::Add(hn::Add(hn::Mul(ru0, pa), hn::Mul(ru1, pb)), hn::Mul(ru2, pc));
+        V[c] = hn::Add(hn::Add(hn::Mul(rv0, pa), hn::Mul(rv1, pb)), hn::Mul(rv2, pc));
+      }
+    };
     hn::Vec<D> U[3], V[3];
-    for (int c = 0; c < 3; ++c) {
-      const auto pa = hn::GatherIndex(d, px + c, ia);
-      const auto pb = hn::GatherIndex(d, px + c, ib);
-      const auto pc = hn::GatherIndex(d, px + c, ic);
-      U[c] = hn::Add(hn::Add(hn::Mul(ru0, pa), hn::Mul(ru1, pb)), hn::Mul(ru2, pc));
-      V[c] = hn::Add(hn::Add(hn::Mul(rv0, pa), hn::Mul(rv1, pb)), hn::Mul(rv2, pc));
-    }
+    tangents(px, U, V);
     auto dot = [](const hn::Vec<D>* p, const hn::Vec<D>* q) {
       return hn::Add(hn::Add(hn::Mul(p[0], q[0]), hn::Mul(p[1], q[1])), hn::Mul(p[2], q[2]));
     };
@@ -76,13 +81,7 @@ void Accumulate(const MembraneKernelArgs& k) {
     auto euv = dot(U, V);
     if constexpr (kDamped) {
       hn::Vec<D> Ud[3], Vd[3];
-      for (int c = 0; c < 3; ++c) {
-        const auto pa = hn::GatherIndex(d, pv + c, ia);
-        const auto pb = hn::GatherIndex(d, pv + c, ib);
-        const auto pc = hn::GatherIndex(d, pv + c, ic);
-        Ud[c] = hn::Add(hn::Add(hn::Mul(ru0, pa), hn::Mul(ru1, pb)), hn::Mul(ru2, pc));
-        Vd[c] = hn::Add(hn::Add(hn::Mul(rv0, pa), hn::Mul(rv1, pb)), hn::Mul(rv2, pc));
-      }
+      tangents(pv, Ud, Vd);
       euu = hn::Add(euu, hn::Mul(tau, dot(U, Ud)));
       evv = hn::Add(evv, hn::Mul(tau, dot(V, Vd)));
       const auto cross = hn::Add(hn::Add(hn::Add(dot(U, Vd), hn::Mul(Ud[0], V[0])),
