@@ -9,7 +9,6 @@ extern "C" {
 #include <libavutil/log.h>
 #include <libavutil/opt.h>
 #include <libavutil/rational.h>
-#include <libswscale/swscale.h>
 }
 
 #include <algorithm>
@@ -21,6 +20,7 @@ extern "C" {
 #include "core/error.h"
 #include "video/av_error_text.h"
 #include "video/partial_file.h"
+#include "video/yuv420.h"
 
 namespace tissu {
 namespace {
@@ -52,7 +52,6 @@ struct Mp4Writer::State {
   AVFormatContext* format = nullptr;
   AVStream* stream = nullptr;  // owned by `format`
   AVCodecContext* codec = nullptr;
-  SwsContext* scaler = nullptr;
   AVFrame* frame = nullptr;
   AVPacket* packet = nullptr;
   std::vector<std::uint8_t> padded;  // odd-sized input copied to even size
@@ -75,8 +74,6 @@ struct Mp4Writer::State {
   // Frees every libav object; closes the temporary file without checking (used on failure).
   void release() noexcept {
     open = false;
-    sws_freeContext(scaler);
-    scaler = nullptr;
     av_frame_free(&frame);
     av_packet_free(&packet);
     avcodec_free_context(&codec);
@@ -106,7 +103,8 @@ void Mp4Writer::State::open_encoder(FrameRate fps, const Mp4Options& options) {
   codec->framerate = AVRational{fps.num, fps.den};
   codec->gop_size = std::max(1, int(std::lround(options.keyframe_interval_s * fps.value())));
   codec->thread_count = std::max(1, options.encoder_threads);
-  // Rendered RGB is converted with BT.709 coefficients to limited range; say so in the stream.
+  // Rendered RGB is converted with BT.709 coefficients to limited range (video/yuv420.h); say
+  // so in the stream.
   codec->color_range = AVCOL_RANGE_MPEG;
   codec->colorspace = AVCOL_SPC_BT709;
   codec->color_primaries = AVCOL_PRI_BT709;
@@ -135,13 +133,6 @@ void Mp4Writer::State::open_encoder(FrameRate fps, const Mp4Options& options) {
   stream->time_base = codec->time_base;  // a hint; the muxer picks its own
   stream->avg_frame_rate = codec->framerate;
   stream->r_frame_rate = codec->framerate;
-
-  scaler = sws_getContext(video_width, video_height, AV_PIX_FMT_RGB24, video_width, video_height,
-                          AV_PIX_FMT_YUV420P, SWS_BICUBIC | SWS_ACCURATE_RND, nullptr, nullptr, nullptr);
-  if (!scaler) fail("cannot set up RGB to YUV conversion", AVERROR(EINVAL));
-  const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
-  check(sws_setColorspaceDetails(scaler, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16),
-        "cannot set up RGB to YUV conversion");
 
   frame = av_frame_alloc();
   packet = av_packet_alloc();
@@ -244,11 +235,8 @@ void Mp4Writer::write_frame(const std::uint8_t* rgb) {
   State& s = *state_;
   s.check(av_frame_make_writable(s.frame), "cannot encode frame");
   const std::uint8_t* source = s.even_sized(rgb);
-  const int source_stride = s.video_width * 3;
-  if (sws_scale(s.scaler, &source, &source_stride, 0, s.video_height, s.frame->data, s.frame->linesize) !=
-      s.video_height) {
-    s.fail("cannot convert frame to YUV", AVERROR(EINVAL));
-  }
+  rgb_to_yuv420(source, s.video_width * 3, s.video_width, s.video_height, s.frame->data[0], s.frame->linesize[0],
+                s.frame->data[1], s.frame->linesize[1], s.frame->data[2], s.frame->linesize[2]);
   s.frame->pts = s.frames;
   s.encode(s.frame);
   ++s.frames;
