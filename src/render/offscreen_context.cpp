@@ -11,6 +11,7 @@
 
 #include "render/gl_objects.h"
 #include "render/pass_timer.h"
+#include "render/pixel_simd.h"
 #include "render/render_error.h"
 
 namespace tissu {
@@ -200,12 +201,7 @@ void OffscreenContext::read_rgb(std::vector<uint8_t>& out, PassTimer* timer) {
   out.resize(width * height_ * 3);
   for (int y = 0; y < height_; ++y) {
     const uint8_t* from = rgba_.data() + width * 4 * (height_ - 1 - y);
-    uint8_t* to = out.data() + width * 3 * y;
-    for (size_t x = 0; x < width; ++x) {
-      to[3 * x] = from[4 * x];
-      to[3 * x + 1] = from[4 * x + 1];
-      to[3 * x + 2] = from[4 * x + 2];
-    }
+    rgba_to_rgb(from, out.data() + width * 3 * y, width);
   }
   if (timer) timer->lap("RGBA to RGB, flip (CPU)");
   bind_draw_target();
