@@ -1,13 +1,15 @@
 // H.264 encoder settings against each other on real frames: processor time per frame,
 // file size and quality (PSNR of the decoded video against the frames given).
 //
-//   tissu_encode_bench FRAME_DIR [--fps N] [--presets a,b,...] [--tunes t,...] [--crf N]
+//   tissu_encode_bench FRAME_DIR [--fps N] [--presets a,b,...] [--tunes t,...] [--crf N[,N...]]
+//                      [--params "k=v:k=v;k=v..."]
 //
 // FRAME_DIR holds frame_NNNNNN.png files, e.g. from
 //   tissu render scenes/demo.json --png --no-mp4 --out /tmp/frames -y
 // Each setting encodes every frame on this thread (encoder_threads 1, as tissu does) into a
 // temporary MP4; the time is this thread's processor time in Mp4Writer::write_frame and
-// finish(), with the RGB to YUV conversion included.
+// finish(), with the RGB to YUV conversion included. --params lists x264 settings to add
+// to each preset, separated by ';' ("none": nothing added).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -26,11 +28,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::vector<std::string> split(const std::string& list) {
+std::vector<std::string> split(const std::string& list, char separator = ',') {
   std::vector<std::string> out;
   std::stringstream ss(list);
   std::string item;
-  while (std::getline(ss, item, ',')) out.push_back(item);
+  while (std::getline(ss, item, separator)) out.push_back(item);
   return out;
 }
 
@@ -38,11 +40,15 @@ std::vector<std::string> split(const std::string& list) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: tissu_encode_bench FRAME_DIR [--fps N] [--presets LIST] [--tunes LIST] [--crf N]\n");
+    std::fprintf(stderr,
+                 "usage: tissu_encode_bench FRAME_DIR [--fps N] [--presets LIST] [--tunes LIST] [--crf LIST] "
+                 "[--params LIST]\n");
     return 2;
   }
   const fs::path dir = argv[1];
-  int fps = 30, crf = 20;
+  int fps = 30;
+  std::vector<int> crfs = {20};
+  std::vector<std::string> params = {"none"};
   std::vector<std::string> presets = {"ultrafast", "superfast", "veryfast", "faster", "medium"};
   std::vector<std::string> tunes = {""};
   for (int i = 2; i + 1 < argc; i += 2) {
@@ -50,7 +56,10 @@ int main(int argc, char** argv) {
     if (a == "--fps") fps = std::stoi(v);
     else if (a == "--presets") presets = split(v);
     else if (a == "--tunes") tunes = split(v);
-    else if (a == "--crf") crf = std::stoi(v);
+    else if (a == "--crf") {
+      crfs.clear();
+      for (const std::string& c : split(v)) crfs.push_back(std::stoi(c));
+    } else if (a == "--params") params = split(v, ';');
   }
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(dir)) {
@@ -63,36 +72,45 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "tissu_encode_bench: no PNG frames in %s\n", dir.c_str());
     return 2;
   }
-  std::printf("%zu frames %dx%d, crf %d\n\n", frames.size(), frames[0].width, frames[0].height, crf);
-  std::printf("| preset | tune | CPU ms/frame | kB per second of video | mean PSNR dB | lowest PSNR dB |\n");
-  std::printf("| --- | --- | ---: | ---: | ---: | ---: |\n");
+  std::printf("%zu frames %dx%d\n\n", frames.size(), frames[0].width, frames[0].height);
+  std::printf("| preset | tune | x264 settings | CRF | CPU ms/frame | kB per second of video | mean PSNR dB | lowest PSNR dB |\n");
+  std::printf("| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |\n");
   const fs::path out = fs::temp_directory_path() / "tissu_encode_bench.mp4";
+  auto run = [&](const Mp4Options& o) {
+    const double c0 = thread_cpu_seconds();
+    {
+      Mp4Writer writer(out.string(), frames[0].width, frames[0].height, FrameRate(fps), o);
+      for (const Image& f : frames) writer.write_frame(f);
+      writer.finish();
+    }
+    const double cpu_ms = 1e3 * (thread_cpu_seconds() - c0) / frames.size();
+    const double kb_per_s = fs::file_size(out) / 1e3 / (double(frames.size()) / fps);
+    Mp4Reader reader(out.string());
+    Image decoded;
+    double sum = 0.0, lowest = 1e9;
+    size_t k = 0;
+    while (reader.read_frame(decoded) && k < frames.size()) {
+      const double psnr = compare_images(frames[k++], decoded).psnr_db;
+      sum += psnr;
+      lowest = std::min(lowest, psnr);
+    }
+    std::printf("| %s | %s | %s | %d | %.1f | %.0f | %.2f | %.2f |\n", o.preset.c_str(),
+                o.tune.empty() ? "none" : o.tune.c_str(), o.x264_params.empty() ? "none" : o.x264_params.c_str(),
+                o.crf, cpu_ms, kb_per_s, sum / k, lowest);
+    std::fflush(stdout);
+  };
   for (const std::string& tune : tunes) {
     for (const std::string& preset : presets) {
-      Mp4Options o;
-      o.preset = preset;
-      o.tune = tune;
-      o.crf = crf;
-      const double c0 = thread_cpu_seconds();
-      {
-        Mp4Writer writer(out.string(), frames[0].width, frames[0].height, FrameRate(fps), o);
-        for (const Image& f : frames) writer.write_frame(f);
-        writer.finish();
+      for (const std::string& param : params) {
+        for (const int crf : crfs) {
+          Mp4Options o;
+          o.preset = preset;
+          o.tune = tune;
+          o.crf = crf;
+          o.x264_params = param == "none" ? "" : param;
+          run(o);
+        }
       }
-      const double cpu_ms = 1e3 * (thread_cpu_seconds() - c0) / frames.size();
-      const double kb_per_s = fs::file_size(out) / 1e3 / (double(frames.size()) / fps);
-      Mp4Reader reader(out.string());
-      Image decoded;
-      double sum = 0.0, lowest = 1e9;
-      size_t k = 0;
-      while (reader.read_frame(decoded) && k < frames.size()) {
-        const double psnr = compare_images(frames[k++], decoded).psnr_db;
-        sum += psnr;
-        lowest = std::min(lowest, psnr);
-      }
-      std::printf("| %s | %s | %.1f | %.0f | %.2f | %.2f |\n", preset.c_str(),
-                  tune.empty() ? "none" : tune.c_str(), cpu_ms, kb_per_s, sum / k, lowest);
-      std::fflush(stdout);
     }
   }
   fs::remove(out);

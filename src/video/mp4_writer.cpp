@@ -116,10 +116,12 @@ void Mp4Writer::State::open_encoder(FrameRate fps, const Mp4Options& options) {
   // different bytes from run to run (seen with glibc's M_PERTURB). Every processor with
   // AVX-512 has AVX2, so x264 is limited to AVX2 there.
   const bool avx512 = av_get_cpu_flags() & AV_CPU_FLAG_AVX512;
+  std::string x264_params = options.x264_params;
+  if (avx512) x264_params += std::string(x264_params.empty() ? "" : ":") + "asm=AVX2";
   if (av_dict_set(&settings, "preset", options.preset.c_str(), 0) < 0 ||
       av_dict_set(&settings, "crf", std::to_string(options.crf).c_str(), 0) < 0 ||
       (!options.tune.empty() && av_dict_set(&settings, "tune", options.tune.c_str(), 0) < 0) ||
-      (avx512 && av_dict_set(&settings, "x264-params", "asm=AVX2", 0) < 0)) {
+      (!x264_params.empty() && av_dict_set(&settings, "x264-params", x264_params.c_str(), 0) < 0)) {
     av_dict_free(&settings);
     fail("cannot start the H.264 encoder", AVERROR(ENOMEM));
   }
