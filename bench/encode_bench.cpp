@@ -9,7 +9,7 @@
 // Each setting encodes every frame on this thread (encoder_threads 1, as tissu does) into a
 // temporary MP4; the time is this thread's processor time in Mp4Writer::write_frame and
 // finish(), with the RGB to YUV conversion included. --params lists x264 settings to add
-// to each preset, separated by ';' ("none": nothing added).
+// to each preset, separated by ';' ("none": nothing added; default: Mp4Options' own).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
   const fs::path dir = argv[1];
   int fps = 30;
   std::vector<int> crfs = {20};
-  std::vector<std::string> params = {"none"};
+  std::vector<std::string> params = {Mp4Options().x264_params};  // what tissu uses
   std::vector<std::string> presets = {"ultrafast", "superfast", "veryfast", "faster", "medium"};
   std::vector<std::string> tunes = {""};
   for (int i = 2; i + 1 < argc; i += 2) {
