@@ -11,6 +11,7 @@
 #include "app/report.h"
 #include "figure/compose.h"
 #include "scene/json_reader.h"
+#include "study/output.h"
 #include "video/png_io.h"
 
 namespace tissu {
@@ -201,16 +202,6 @@ void write_contact_sheet(const BatchPlan& plan, const std::vector<JobState>& sta
 }
 
 }  // namespace
-
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
 
 GatherCounts gather_batch(const BatchPlan& plan) {
   const std::vector<std::string> keys = override_keys(plan);

@@ -19,6 +19,4 @@ struct GatherCounts {
 // exist). Returns the counts of the jobs' states.
 GatherCounts gather_batch(const BatchPlan& plan);
 
-std::string csv_field(const std::string& text);  // quoted when it must be
-
 }  // namespace tissu

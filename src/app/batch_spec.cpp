@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "figure/paper_experiments.h"
+#include "study/paper/paper_experiments.h"
 #include "scene/json_reader.h"
 #include "scene/scene.h"
 

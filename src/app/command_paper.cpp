@@ -1,5 +1,5 @@
 // tissu paper: runs the experiments of the paper's section 4 and writes
-// DIR/paper-results.md and DIR/paper-results.csv (see src/figure/paper_experiments.h).
+// DIR/paper-results.md and DIR/paper-results.csv (see src/study/paper/paper_experiments.h).
 #include <algorithm>
 #include <iostream>
 #include <sstream>
@@ -7,7 +7,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "core/error.h"
-#include "figure/paper_experiments.h"
+#include "study/paper/paper_experiments.h"
 
 namespace tissu {
 

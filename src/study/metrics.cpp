@@ -24,6 +24,22 @@ PositionError position_error(const Vec3List& a, const Vec3List& b) {
   return e;
 }
 
+double max_speed(const Vec3List& v) {
+  double top = 0.0;
+  for (const Vec3& vi : v) top = std::max(top, vi.norm());
+  return top;
+}
+
+Vec3 centre_of_mass(const Model& model, const Vec3List& x) {
+  Vec3 sum = Vec3::Zero();
+  double mass = 0.0;
+  for (int i = 0; i < model.num_vertices(); ++i) {
+    sum += model.mass[i] * x[i];
+    mass += model.mass[i];
+  }
+  return sum / mass;
+}
+
 Energy measure_energy(const Model& model, const Vec3List& x, const Vec3List& v) {
   Energy e;
   e.kinetic = kinetic_energy(model, v);

@@ -16,6 +16,12 @@ struct PositionError {
 };
 PositionError position_error(const Vec3List& a, const Vec3List& b);
 
+// Largest vertex speed of the velocities `v`, m/s (0 for none).
+double max_speed(const Vec3List& v);
+
+// Mass-weighted mean of the positions `x` (m), with the model's lumped masses.
+Vec3 centre_of_mass(const Model& model, const Vec3List& x);
+
 // Energies of one state, J. total = kinetic + elastic (membrane + bending) + gravity
 // potential (-sum m g.x, zero without gravity).
 struct Energy {

@@ -92,7 +92,8 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
   Stepper stepper(model, state);
 
   ProbeResult r;
-  r.steps = static_cast<long long>(std::ceil(spec.duration / spec.dt - 1e-9));
+  r.steps = spec.steps >= 0 ? spec.steps
+                            : static_cast<long long>(std::ceil(spec.duration / spec.dt - 1e-9));
   const long long monitor_every =
       spec.monitor_every > 0 ? spec.monitor_every : std::max<long long>(1, r.steps / 256);
   const double eps = 1e-9 * spec.dt;  // time tolerance for "on the step grid", s
@@ -159,6 +160,7 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
     return true;
   };
 
+  if (spec.observe) spec.observe(state);
   for (long long s = 0;; ++s) {
     // Samples at this step's time.
     while (next < times.size() && times[next] <= state.t + eps) {
@@ -170,24 +172,28 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
       ++next;
     }
     if (s == r.steps) {
-      if (s % monitor_every != 0) monitor();
+      if (spec.monitored && s % monitor_every != 0) monitor();
       break;
     }
     if (spec.interrupted && spec.interrupted()) {
       r.status = ProbeStatus::Interrupted;
       break;
     }
-    // Keep the state before a step that passes over a sample time.
-    const std::optional<Divergence> divergence =
-        stepper.advance(next < times.size() && times[next] < state.t + spec.dt - eps);
+    // Keep the state before a step that passes over a sample time, or that may diverge
+    // when the run must end on its last good state.
+    const std::optional<Divergence> divergence = stepper.advance(
+        spec.keep_end || (next < times.size() && times[next] < state.t + spec.dt - eps));
     r.steps_done = s + 1;
     if (divergence) {
       r.status = ProbeStatus::Diverged;
       r.failure = divergence;
+      if (spec.keep_end) stepper.restore_before();
       break;
     }
-    if ((s + 1) % monitor_every == 0 && !monitor()) break;
+    if (spec.observe) spec.observe(state);
+    if (spec.monitored && (s + 1) % monitor_every == 0 && !monitor()) break;
   }
+  if (spec.keep_end) r.end = std::move(state);
   r.cpu_seconds = stepper.totals().cpu_seconds;
   r.wall_seconds = stepper.totals().wall_seconds;
   r.newton_iterations = stepper.totals().newton_iterations;

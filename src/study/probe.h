@@ -35,6 +35,14 @@ struct ProbeSpec {
   double energy_margin = 1.0;            // see energy_scale()
   double penetration_tolerance = 1e-6;   // m below an obstacle surface that counts as inside
   std::function<bool()> interrupted;     // polled every step when set
+  // Exactly this many steps when >= 0 (duration is then ignored).
+  long long steps = -1;
+  // false: only a divergence ends the run (no energy or clearance checks).
+  bool monitored = true;
+  // Keep the state the run ends on in ProbeResult::end (the last good one after a divergence).
+  bool keep_end = false;
+  // Sees the first state and the state after every step that did not diverge.
+  std::function<void(const State&)> observe;
 };
 
 // The state at one sample time. Sample times that fall between two steps are linearly
@@ -62,6 +70,7 @@ struct ProbeResult {
   std::optional<double> min_clearance;  // m, smallest checked (with obstacles)
   long long newton_iterations = 0;
   long long cg_iterations = 0;
+  State end;  // with ProbeSpec::keep_end; empty otherwise
 
   bool stable() const { return status == ProbeStatus::Ok; }
   double wall_per_simulated_second() const;  // s/s

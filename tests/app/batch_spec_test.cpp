@@ -10,6 +10,7 @@
 #include "app/batch_gather.h"
 #include "app/batch_slurm.h"
 #include "app/batch_spec.h"
+#include "study/output.h"
 
 namespace {
 

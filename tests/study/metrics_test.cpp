@@ -74,6 +74,20 @@ TEST(Energy, KineticPotentialAndElasticOfARigidState) {
   EXPECT_NEAR(e.total(), 0.15 + 3.0, 1e-13);
 }
 
+TEST(CentreOfMass, EqualMassesGiveTheMeanPosition) {
+  Vec3List x;
+  const Model m = one_triangle(x);
+  const Vec3 c = centre_of_mass(m, x);
+  EXPECT_NEAR(c.x(), 2.0 / 3.0, 1e-15);
+  EXPECT_NEAR(c.y(), 1.0 / 3.0, 1e-15);
+  EXPECT_NEAR(c.z(), 1.0, 1e-15);
+}
+
+TEST(MaxSpeed, LargestVertexSpeedOrZero) {
+  EXPECT_EQ(max_speed({Vec3(3, 4, 0), Vec3(0, 0, -1)}), 5.0);
+  EXPECT_EQ(max_speed({}), 0.0);
+}
+
 TEST(EnergyScale, GravityWorkOverTheClothSizePlusDrivers) {
   Vec3List x;
   Model m = one_triangle(x);

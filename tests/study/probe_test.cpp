@@ -89,14 +89,19 @@ TEST(Probe, ExplicitEulerGainsEnergyAndIsFlagged) {
   EXPECT_EQ(good.status, ProbeStatus::Ok) << (good.failure ? good.failure->reason : "");
 }
 
-TEST(Probe, DivergenceIsReportedWithStepAndVertex) {
-  // Pre-stretched 20 % and stepped far beyond the explicit limit.
-  const Simulation base = sheet(R"({"cloth": {"transform": {"scale": 1.2}}})");
+// The sheet pre-stretched 20 % and explicit Euler far beyond its stability limit.
+Simulation stretched_sheet() { return sheet(R"({"cloth": {"transform": {"scale": 1.2}}})"); }
+ProbeSpec beyond_explicit_limit() {
   ProbeSpec spec;
   spec.integrator = Integrator::ExplicitEuler;
   spec.dt = 5e-3;
+  return spec;
+}
+
+TEST(Probe, DivergenceIsReportedWithStepAndVertex) {
+  ProbeSpec spec = beyond_explicit_limit();
   spec.duration = 1.0;
-  const ProbeResult r = run_probe(base, spec);
+  const ProbeResult r = run_probe(stretched_sheet(), spec);
   ASSERT_NE(r.status, ProbeStatus::Ok);
   ASSERT_TRUE(r.failure.has_value());
   EXPECT_GE(r.failure->step, 1);
@@ -119,6 +124,37 @@ TEST(Probe, VertexInsideAnObstacleIsFlagged) {
   EXPECT_EQ(r.failure->vertex, 0);
   ASSERT_TRUE(r.min_clearance.has_value());
   EXPECT_LT(*r.min_clearance, -0.009);
+}
+
+// The paper's runs: a count of steps, no monitoring, the last good state kept and every
+// state seen by an observer.
+TEST(Probe, CountedRunEndsOnTheLastGoodStateAfterADivergence) {
+  ProbeSpec spec = beyond_explicit_limit();
+  spec.steps = 200;
+  spec.monitored = false;
+  spec.keep_end = true;
+  std::vector<long long> seen;
+  spec.observe = [&](const State& s) { seen.push_back(s.step); };
+  const ProbeResult r = run_probe(stretched_sheet(), spec);
+  ASSERT_EQ(r.status, ProbeStatus::Diverged);
+  ASSERT_TRUE(r.failure.has_value());
+  EXPECT_EQ(r.steps, 200);
+  EXPECT_EQ(r.end.step, r.failure->step - 1);
+  for (const Vec3& x : r.end.x) EXPECT_TRUE(x.allFinite());
+  ASSERT_EQ(static_cast<long long>(seen.size()), r.failure->step);
+  for (size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], static_cast<long long>(i));
+}
+
+TEST(Probe, CountedRunTakesExactlyItsSteps) {
+  ProbeSpec spec;
+  spec.dt = 1e-4;
+  spec.duration = 1.0;  // ignored
+  spec.steps = 7;
+  spec.keep_end = true;
+  const ProbeResult r = run_probe(sheet(), spec);
+  EXPECT_EQ(r.status, ProbeStatus::Ok);
+  EXPECT_EQ(r.steps_done, 7);
+  EXPECT_EQ(r.end.step, 7);
 }
 
 TEST(Probe, InterruptStopsTheRun) {
