@@ -12,6 +12,7 @@
 #include "app/report.h"
 #include "core/error.h"
 #include "figure/figure.h"
+#include "view/scene_render_settings.h"
 #include "physics/diagnostics.h"
 #include "video/png_io.h"
 
@@ -84,7 +85,7 @@ class Mp4Panels : public PanelObserver {
       : dir_(std::move(dir)), stem_(std::move(stem)), width_(width), height_(height) {}
 
   long long begin(size_t index, const PanelSpec&, const Scene& scene) override {
-    const RenderSettings settings = panel_render_settings(scene, width_, height_);
+    const RenderSettings settings = still_render_settings(scene, width_, height_);
     RenderOutputs outputs;
     path_ = (fs::path(dir_) / (stem_ + "_panel" + std::to_string(index + 1) + ".mp4")).string();
     outputs.mp4_path = path_;

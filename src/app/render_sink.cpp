@@ -13,10 +13,10 @@
 #include <stdexcept>
 
 #include "app/signals.h"
-#include "figure/obstacle_shape.h"
 #include "render/cpu_clock.h"
 #include "render/scene_bounds.h"
 #include "video/progress_bar.h"
+#include "view/drawn_frame.h"
 
 namespace tissu {
 
@@ -30,21 +30,6 @@ constexpr std::size_t kRenderQueueCapacity = 2;
 // threads, the encoder): the simulation thread, which produces every frame, comes first
 // when they compete for a core; they use what it leaves (the other core, or its waits).
 constexpr int kRenderThreadNice = 10;
-
-// Cloth resting on an obstacle has its vertices on the surface and its flat triangles
-// inside it (by the sagitta L^2 / (8 R) of an edge of length L): drawn at full size the
-// obstacle would show through. Obstacles are drawn inset by twice that sagitta plus 0.5%.
-double draw_inset(double radius, double edge_length) {
-  return std::min(0.2 * radius, 0.005 * radius + edge_length * edge_length / (4.0 * radius));
-}
-
-double mean_edge_length(const Model& model, const Vec3List& x) {
-  double sum = 0.0;
-  for (const Tri& t : model.triangles) {
-    sum += (x[t[0]] - x[t[1]]).norm() + (x[t[1]] - x[t[2]]).norm() + (x[t[2]] - x[t[0]]).norm();
-  }
-  return model.triangles.empty() ? 0.0 : sum / (3.0 * model.triangles.size());
-}
 
 
 std::string numbered_png(const std::string& dir, long long index) {
@@ -265,9 +250,7 @@ void RenderSink::frame(const Model& model, const State& state, const FrameStats&
   Job job;
   job.topology = topology_;
   job.positions = state.x;
-  for (const Obstacle& ob : model.obstacles) {
-    job.obstacles.push_back(drawn_obstacle(ob, state.t, draw_inset(ob.radius, edge_length_)));
-  }
+  job.obstacles = drawn_obstacles(model, state.t, edge_length_);
   if (settings_.info) {
     job.overlay_lines =
         info_overlay_lines(integrator_name(model.integrator), model.triangles.size(), stats.time);

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "app/run_loop.h"
-#include "figure/scene_render_settings.h"
+#include "view/scene_render_settings.h"
 #include "render/renderer.h"
 #include "video/frame_encoder_pipeline.h"
 

@@ -2,10 +2,10 @@
 
 #include <sstream>
 
-#include "figure/obstacle_shape.h"
-#include "figure/scene_render_settings.h"
 #include "physics/stepper.h"
 #include "render/scene_bounds.h"
+#include "view/drawn_frame.h"
+#include "view/scene_render_settings.h"
 
 namespace tissu {
 
@@ -35,11 +35,6 @@ void remove_key(Json& doc, const std::string& key) {
   }
   if (node->is_object()) node->erase(parts.back());
 }
-
-// Cloth resting on an obstacle lies on its surface, where both tessellations would cut
-// through each other: obstacles are drawn slightly inside (`tissu render` insets by the
-// cloth's edge sagitta instead, see RenderSink).
-constexpr double kDrawInset = 0.01;  // fraction of the radius
 
 }  // namespace
 
@@ -109,36 +104,18 @@ PanelRun run_panel(const Scene& scene, long long step_shown, long long frame_eve
   return run;
 }
 
-RenderSettings panel_render_settings(const Scene& scene, int width, int height) {
-  RenderSettings settings = render_settings_of(scene);
-  settings.width = width;
-  settings.height = height;
-  settings.caption.clear();
-  settings.info = false;
-  return settings;
-}
-
-FrameContent panel_frame_content(const Model& model, const State& state) {
-  FrameContent content;
-  content.triangles = model.triangles;
-  content.rest_uv = model.rest_uv;
-  content.positions = state.x;
-  for (const Obstacle& ob : model.obstacles) content.obstacles.push_back(drawn_obstacle(ob, state.t, ob.radius * kDrawInset));
-  return content;
-}
-
 void fit_panel_camera(Renderer& renderer, const Model& model, const Vec3List& initial_x) {
   State first;
   first.x = initial_x;
-  const FrameContent content = panel_frame_content(model, first);
+  const FrameContent content = drawn_frame(model, first, mean_edge_length(model, initial_x));
   renderer.fit_camera(content_bounds(content), content.obstacles);
 }
 
 Image render_panel(const Scene& scene, const PanelRun& run, int width, int height) {
-  const RenderSettings settings = panel_render_settings(scene, width, height);
-  Renderer renderer(settings);
+  Renderer renderer(still_render_settings(scene, width, height));
   fit_panel_camera(renderer, run.sim.model, run.initial_x);
-  renderer.draw(panel_frame_content(run.sim.model, run.sim.state));
+  const double edge_length = mean_edge_length(run.sim.model, run.initial_x);
+  renderer.draw(drawn_frame(run.sim.model, run.sim.state, edge_length));
   Image image(width, height);
   renderer.read_rgb(image.rgb);
   return image;

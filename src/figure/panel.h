@@ -40,14 +40,10 @@ struct PanelRun {
 PanelRun run_panel(const Scene& scene, long long step, long long frame_every = 0,
                    const FrameCallback& on_frame = {});
 
-// The scene's render block at `width` x `height`, without caption and corner text.
-RenderSettings panel_render_settings(const Scene& scene, int width, int height);
-
-// What a frame shows for `state`: the cloth and the obstacles at state.t.
-FrameContent panel_frame_content(const Model& model, const State& state);
-
 // Fixes the camera of a panel: the scene's, completed by automatic framing of `initial_x`
 // (the first frame) so that panels of one scene at different iterations share a view.
+// The panel's settings are still_render_settings() (view/scene_render_settings.h), its
+// frames drawn_frame() with the mean edge length of `initial_x` (view/drawn_frame.h).
 void fit_panel_camera(Renderer& renderer, const Model& model, const Vec3List& initial_x);
 
 // Draws the state shown in `run` at `width` x `height`.

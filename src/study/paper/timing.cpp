@@ -9,6 +9,8 @@
 #include "study/output.h"
 #include "study/paper/experiments.h"
 #include "study/paper/paper_runs.h"
+#include "view/drawn_frame.h"
+#include "view/scene_render_settings.h"
 
 namespace tissu {
 
@@ -36,12 +38,13 @@ double median(std::vector<double> v) {
 // Draws `frames` off screen at 1280 x 720 with the scene's settings; ms per frame.
 double render_ms_per_frame(const PaperScene& l, const Model& model,
                            const std::vector<State>& frames) {
-  Renderer renderer(panel_render_settings(l.scene, 1280, 720));
+  Renderer renderer(still_render_settings(l.scene, 1280, 720));
   fit_panel_camera(renderer, model, l.sim.state.x);
+  const double edge_length = mean_edge_length(model, l.sim.state.x);
   std::vector<uint8_t> rgb;
   const double t0 = wall_seconds();
   for (const State& s : frames) {
-    renderer.draw(panel_frame_content(model, s));
+    renderer.draw(drawn_frame(model, s, edge_length));
     renderer.read_rgb(rgb);
   }
   return 1e3 * (wall_seconds() - t0) / static_cast<double>(frames.size());

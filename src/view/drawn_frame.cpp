@@ -1,8 +1,22 @@
-#include "figure/obstacle_shape.h"
+#include "view/drawn_frame.h"
+
+#include <algorithm>
 
 #include "collision/closed_surface.h"
 
 namespace tissu {
+
+double mean_edge_length(const Model& model, const Vec3List& x) {
+  double sum = 0.0;
+  for (const Tri& t : model.triangles) {
+    sum += (x[t[0]] - x[t[1]]).norm() + (x[t[1]] - x[t[2]]).norm() + (x[t[2]] - x[t[0]]).norm();
+  }
+  return model.triangles.empty() ? 0.0 : sum / (3.0 * model.triangles.size());
+}
+
+double obstacle_inset(double radius, double edge_length) {
+  return std::min(0.2 * radius, 0.005 * radius + edge_length * edge_length / (4.0 * radius));
+}
 
 ObstacleShape drawn_obstacle(const Obstacle& ob, double t, double inset) {
   ObstacleShape s;
@@ -28,6 +42,24 @@ ObstacleShape drawn_obstacle(const Obstacle& ob, double t, double inset) {
     s.rotation = ob.rotation(t);
   }
   return s;
+}
+
+std::vector<ObstacleShape> drawn_obstacles(const Model& model, double t, double edge_length) {
+  std::vector<ObstacleShape> shapes;
+  shapes.reserve(model.obstacles.size());
+  for (const Obstacle& ob : model.obstacles) {
+    shapes.push_back(drawn_obstacle(ob, t, obstacle_inset(ob.radius, edge_length)));
+  }
+  return shapes;
+}
+
+FrameContent drawn_frame(const Model& model, const State& state, double edge_length) {
+  FrameContent content;
+  content.triangles = model.triangles;
+  content.rest_uv = model.rest_uv;
+  content.positions = state.x;
+  content.obstacles = drawn_obstacles(model, state.t, edge_length);
+  return content;
 }
 
 }  // namespace tissu

@@ -1,4 +1,4 @@
-#include "figure/scene_render_settings.h"
+#include "view/scene_render_settings.h"
 
 namespace tissu {
 
@@ -10,6 +10,15 @@ RenderSettings render_settings_of(const Scene& scene) {
   } catch (const InputError& e) {
     throw scene_error(scene, e.what());
   }
+}
+
+RenderSettings still_render_settings(const Scene& scene, int width, int height) {
+  RenderSettings settings = render_settings_of(scene);
+  settings.width = width;
+  settings.height = height;
+  settings.caption.clear();
+  settings.info = false;
+  return settings;
 }
 
 }  // namespace tissu
