@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "physics/system_matrix.h"
+
 namespace tissu {
 
 void ContactSet::clear(int num_vertices) {
@@ -16,8 +18,8 @@ namespace {
 // Coulomb's law at a new contact, from the vertex's velocity v when it was caught: the
 // impulse that stops its approach (and gravity's push into the surface over beta) against
 // the one that stops its sliding (and gravity's pull along it). It sticks when mu times the
-// first holds the second; otherwise it slides with friction mu times the first against the
-// sliding. The solve then checks the mode (switch_modes); a good first guess saves the
+// first holds the second; otherwise it slides with friction of at most mu times the first.
+// The solve then checks a sticking guess (switch_modes); a good first guess saves the
 // Newton iterations of a switch.
 void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& gravity,
                   double beta) {
@@ -32,7 +34,20 @@ void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& grav
     return;
   }
   c.mode = ContactMode::Slide;
-  c.friction_impulse = -(c.friction * mass * approach / speed) * sliding;
+  c.friction_limit = c.friction * mass * approach;
+}
+
+// The sliding velocity of contact c at vertex velocity v: its tangential part relative to
+// the surface, m/s.
+Vec3 sliding_velocity(const VertexContact& c, const Vec3& v) {
+  const Vec3 relative = v - c.surface_velocity;
+  return relative - c.normal.dot(relative) * c.normal;
+}
+
+// f1(y) / y of the smoothed friction (y = sliding speed, m/s), 1/(m/s).
+double friction_ratio(double y) {
+  constexpr double eps = kSlidingSpeed;
+  return y < eps ? 2.0 / eps - y / (eps * eps) : 1.0 / y;
 }
 
 }  // namespace
@@ -74,7 +89,7 @@ int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& pl
       c.mode = ContactMode::Slide;
     } else if (last.in_contact) {
       c.mode = last.mode;
-      c.friction_impulse = last.friction_impulse;
+      c.friction_limit = last.friction_limit;
     } else if (velocities) {
       predict_mode(c, (*velocities)[i], model.mass[i], gravity, beta);
     } else {
@@ -115,9 +130,45 @@ void ContactSet::filter(Eigen::VectorXd& y) const {
   }
 }
 
-void ContactSet::add_friction(Eigen::VectorXd& rhs) const {
+void ContactSet::add_friction(const Vec3List& v, Eigen::VectorXd& rhs) const {
   for (const VertexContact& c : contacts_) {
-    if (c.mode == ContactMode::Slide) rhs.segment<3>(3 * c.vertex) += c.friction_impulse;
+    if (c.mode != ContactMode::Slide || c.friction_limit == 0.0) continue;
+    const Vec3 u = sliding_velocity(c, v[c.vertex]);
+    rhs.segment<3>(3 * c.vertex) -= (c.friction_limit * friction_ratio(u.norm())) * u;
+  }
+}
+
+double ContactSet::friction_potential(const Vec3List& v) const {
+  constexpr double eps = kSlidingSpeed;
+  double total = 0.0;
+  for (const VertexContact& c : contacts_) {
+    if (c.mode != ContactMode::Slide || c.friction_limit == 0.0) continue;
+    const double y = sliding_velocity(c, v[c.vertex]).norm();
+    // f0(y) = y^2 / eps - y^3 / (3 eps^2) below eps, y - eps / 3 above.
+    const double f0 = y < eps ? y * y / eps - y * y * y / (3.0 * eps * eps) : y - eps / 3.0;
+    total += c.friction_limit * f0;
+  }
+  return total;
+}
+
+void ContactSet::add_friction_jacobian(const Vec3List& v, SystemMatrix& system) const {
+  constexpr double eps = kSlidingSpeed;
+  for (const VertexContact& c : contacts_) {
+    if (c.mode != ContactMode::Slide || c.friction_limit == 0.0) continue;
+    const Vec3 u = sliding_velocity(c, v[c.vertex]);
+    const double y = u.norm();
+    // d(f1(y) u / y)/du = f1/y (P - t t^T) + f1'(y) t t^T on the tangent plane (P its
+    // projector, t = u / y); f1' = 2 / eps - 2 y / eps^2 below eps, 0 above. Both terms
+    // are positive semi-definite.
+    const Mat3 tangent = Mat3::Identity() - c.normal * c.normal.transpose();
+    const double ratio = friction_ratio(y);
+    Mat3 block = ratio * tangent;
+    if (y > 0.0) {
+      const Vec3 t = u / y;
+      const double slope = y < eps ? 2.0 / eps - 2.0 * y / (eps * eps) : 0.0;
+      block += (slope - ratio) * (t * t.transpose());
+    }
+    system.add_diagonal(c.vertex, c.friction_limit * block);
   }
 }
 
@@ -132,25 +183,15 @@ void ContactSet::update(const Eigen::VectorXd& reaction) {
   }
 }
 
-int ContactSet::switch_modes(const Vec3List& v) {
-  constexpr int kMaxSwitches = 2;
+int ContactSet::switch_modes() {
   int switched = 0;
   for (VertexContact& c : contacts_) {
-    if (c.friction == 0.0 || c.switches >= kMaxSwitches) continue;
+    if (c.friction == 0.0 || c.switched || c.mode != ContactMode::Stick) continue;
     const double limit = c.friction * c.normal_impulse;
-    if (c.mode == ContactMode::Stick) {
-      const double needed = c.tangential_impulse.norm();
-      if (needed <= limit) continue;
-      // Friction resists the motion the tangential impulse held back: it acts along it.
-      c.mode = ContactMode::Slide;
-      c.friction_impulse = c.tangential_impulse * (limit / needed);
-    } else {
-      const Vec3 relative = v[c.vertex] - c.surface_velocity;
-      const Vec3 sliding = relative - c.normal.dot(relative) * c.normal;
-      if (sliding.dot(c.friction_impulse) <= 0.0) continue;
-      c.mode = ContactMode::Stick;  // its friction turned it back: it should have stopped
-    }
-    c.switches += 1;
+    if (c.tangential_impulse.norm() <= limit) continue;
+    c.mode = ContactMode::Slide;
+    c.friction_limit = limit;
+    c.switched = true;
     ++switched;
   }
   return switched;
@@ -165,17 +206,14 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release)
       continue;
     }
     m.in_contact = true;
-    const double limit = c.friction * c.normal_impulse;
-    if (c.mode == ContactMode::Slide) {
-      const Vec3 relative = v[c.vertex] - c.surface_velocity;
-      const Vec3 sliding = relative - c.normal.dot(relative) * c.normal;
-      const double speed = sliding.norm();
-      // Still sliding (without friction, or against its friction): it slides on, friction
-      // now against this sliding; stopped or turned back by its friction: it sticks.
-      if (c.friction == 0.0 || (speed > 0.0 && sliding.dot(c.friction_impulse) <= 0.0)) {
-        m.mode = ContactMode::Slide;
-        if (speed > 0.0) m.friction_impulse = -(limit / speed) * sliding;
-      }
+    // Still sliding (without friction, or using more than half of its friction mu J_n): it
+    // slides on; stopped by its friction with half of it to spare: it sticks. The margin
+    // keeps a contact that needs nearly mu J_n from switching mode at every step.
+    constexpr double kStickSpeed = (1.0 - 1.0 / M_SQRT2) * kSlidingSpeed;  // f1 = 1/2, m/s
+    if (c.mode == ContactMode::Slide &&
+        (c.friction == 0.0 || sliding_velocity(c, v[c.vertex]).norm() >= kStickSpeed)) {
+      m.mode = ContactMode::Slide;
+      m.friction_limit = c.friction * c.normal_impulse;
     }
   }
 }

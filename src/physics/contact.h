@@ -13,17 +13,20 @@
 // released for the next step.
 //
 // Tangential direction: Coulomb friction from the normal impulse, inside the solve, with
-// each contact's mode fixed during a step and chosen from the end of the step before
-// (a one-step lag, so that the Newton iterations of a step see a smooth problem):
+// each contact's mode chosen from the end of the step before:
 // - stick: the tangential velocity equals the surface's (three constrained directions);
 //   the solve measures the tangential impulse J_t this needs;
-// - slide: a friction impulse acts against the sliding, mu J_n with the direction and J_n
-//   of the end of the step before (held fixed during the step).
+// - slide: a friction impulse of at most mu J_n acts against the sliding velocity u,
+//   F(u) = -mu J_n f1(|u|) u / |u| with f1(y) = 2 y / eps - y^2 / eps^2 below eps and 1
+//   above (eps = kSlidingSpeed, the smoothed Coulomb friction of IPC, Li et al. 2020),
+//   with J_n of the end of the step before held fixed in the step. F is a function of the
+//   unknown velocity, with its Jacobian in the system, so a contact that friction slows
+//   down stops smoothly instead of having its friction reverse it.
 // Once the step's solve has converged, a sticking contact whose |J_t| exceeds mu J_n slides
-// and a sliding one that its friction turned back sticks, and the solve goes on (each
-// contact switches at most twice in a step, so the set settles). A new contact on an
-// obstacle with friction starts in the mode Coulomb's law predicts from the velocity it
-// was caught with (sticking when no velocity is given).
+// and the solve goes on (once per contact and step). A sliding contact that ends a step
+// using less than half of mu J_n (slower than 0.29 eps) sticks in the next. A new contact on an obstacle with friction starts
+// in the mode Coulomb's law predicts from the velocity it was caught with (sticking when no
+// velocity is given).
 #pragma once
 
 #include <Eigen/Core>
@@ -36,7 +39,12 @@
 
 namespace tissu {
 
+class SystemMatrix;
+
 enum class ContactMode : uint8_t { Stick, Slide };
+
+// Sliding speed below which the friction of a sliding contact falls smoothly to zero, m/s.
+constexpr double kSlidingSpeed = 1e-3;
 
 struct VertexContact {
   int vertex = -1;
@@ -47,11 +55,11 @@ struct VertexContact {
   double friction = 0.0;                 // Coulomb coefficient
   double target = 0.0;                   // normal velocity that lands on the plane, m/s
   ContactMode mode = ContactMode::Slide;
-  int switches = 0;                      // mode switches during this step
+  bool switched = false;                 // switched to sliding during this step
   double normal_impulse = 0.0;           // J_n of the last solve (0 if it pulls), kg*m/s
   double pull = 0.0;                     // -J_n of the last solve if it pulls, kg*m/s
   Vec3 tangential_impulse = Vec3::Zero();  // J_t of the last solve while sticking, kg*m/s
-  Vec3 friction_impulse = Vec3::Zero();  // applied while sliding, kg*m/s
+  double friction_limit = 0.0;           // mu J_n while sliding, kg*m/s
 };
 
 // The contacts of one step.
@@ -83,19 +91,24 @@ class ContactSet {
   // Zeroes the constrained components of y (3V), the filter S of the solve.
   void filter(Eigen::VectorXd& y) const;
 
-  // Adds the sliding contacts' friction impulses to rhs (3V), kg*m/s.
-  void add_friction(Eigen::VectorXd& rhs) const;
+  // Adds the sliding contacts' friction impulses F(v) to rhs (3V), kg*m/s.
+  void add_friction(const Vec3List& v, Eigen::VectorXd& rhs) const;
+
+  // The friction's dissipation potential at v, sum mu J_n f0(|u|) with f0' = f1, whose
+  // gradient is -F(v) (kg*m^2/s^2): the line search's merit holds it.
+  double friction_potential(const Vec3List& v) const;
+
+  // Adds -dF/dv (kg, symmetric positive semi-definite) to the system's diagonal blocks.
+  void add_friction_jacobian(const Vec3List& v, SystemMatrix& system) const;
 
   // After a solve: `reaction` (3V) holds A dv - rhs, the constraint impulses at the
   // constrained vertices. Records them (a pulling J_n as 0 for friction).
   void update(const Eigen::VectorXd& reaction);
 
-  // Once the solve has converged (so that the impulses and velocities judged are the
-  // step's): sticking contacts whose solve needed more tangential impulse than mu J_n
-  // slide (friction mu J_n along that impulse), and sliding ones whose velocity v turned
-  // against their friction stick. A contact switches at most twice in a step. Returns how
-  // many switched.
-  int switch_modes(const Vec3List& v);
+  // Once the solve has converged (so that the impulses judged are the step's): sticking
+  // contacts whose solve needed more tangential impulse than mu J_n slide. A contact
+  // switches at most once in a step. Returns how many switched.
+  int switch_modes();
 
   // At the end of a step with velocities v: releases for the next step the contacts that
   // pulled harder than `release` (per vertex, kg*m/s), chooses the others' modes (see
@@ -112,7 +125,7 @@ class ContactSet {
     bool in_contact = false;
     bool released = false;  // pulled at the end of the last step: not caught unless inside
     ContactMode mode = ContactMode::Stick;
-    Vec3 friction_impulse = Vec3::Zero();  // kg*m/s
+    double friction_limit = 0.0;  // kg*m/s
   };
   std::vector<Memory> memory_;
 };

@@ -113,7 +113,7 @@ void step_rhs(const Model& model, const ImplicitSolver& s, const StepEquation& e
     if (model.pinned[i]) continue;
     rhs.segment<3>(3 * i) = model.mass[i] * (s.v_base[i] - v[i]) + eq.beta * f[i];
   }
-  s.contacts.add_friction(rhs);
+  s.contacts.add_friction(v, rhs);
 }
 
 // The first Newton iteration of a step is linearized at the start of the step, x_n (Baraff
@@ -280,10 +280,7 @@ class Merit {
     mass_dv_dv_ = 0.0;
     momentum_dv_ = 0.0;
     nonconservative_dv_ = 0.0;
-    friction_dv_ = 0.0;
-    for (const VertexContact& c : s_.contacts.contacts()) {
-      if (c.mode == ContactMode::Slide) friction_dv_ += c.friction_impulse.dot(s_.dv.segment<3>(3 * c.vertex));
-    }
+    friction0_ = s_.contacts.friction_potential(s_.v);
     gravity_dv_ = 0.0;
     for (int i = 0; i < n; ++i) {
       if (model_.pinned[i]) continue;
@@ -306,8 +303,8 @@ class Merit {
     triangle_energies(model_, s_.x, s_.triangle_energy);
     bending0_ = model_.bending ? bending_energy(*model_.bending, s_.x) : 0.0;
     value0_ = 0.0;
-    // The slope is -rhs(v) . dv, with rhs = -g(v) plus the friction impulses F, which the
-    // merit holds fixed over the line: -F . (v - v_k).
+    // The slope is -rhs(v) . dv, with rhs = -g(v) plus the friction impulses F(v), whose
+    // potential the merit holds.
     step_rhs(model_, s_, eq_, s_.v, s_.f, s_.reaction);
     return -s_.reaction.dot(s_.dv);
   }
@@ -331,7 +328,8 @@ class Merit {
     if (model_.bending) potential += bending_energy(*model_.bending, s_.x_try) - bending0_;
     const double frozen = -eq_.beta * alpha * nonconservative_dv_ +
                           0.5 * eq_.beta * alpha * alpha * damping_dv_dv_;
-    return kinetic + potential + frozen - alpha * friction_dv_;
+    const double friction = s_.contacts.friction_potential(s_.v_try) - friction0_;
+    return kinetic + potential + frozen + friction;
   }
 
   double value0() const { return value0_; }
@@ -346,7 +344,7 @@ class Merit {
   LineSearch kind_ = LineSearch::Potential;
   double value0_ = 0.0;
   double mass_dv_dv_ = 0.0, momentum_dv_ = 0.0, nonconservative_dv_ = 0.0;
-  double gravity_dv_ = 0.0, damping_dv_dv_ = 0.0, bending0_ = 0.0, friction_dv_ = 0.0;
+  double gravity_dv_ = 0.0, damping_dv_dv_ = 0.0, bending0_ = 0.0, friction0_ = 0.0;
 };
 
 // Newton's method on g(v) = 0 from v = v_n (already in s.v). Iteration k solves
@@ -455,6 +453,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
       step_rhs(model, s, eq, s.v, s.f, s.rhs);
     }
     report.seconds_residual += processor_seconds_since(t0);
+    s.contacts.add_friction_jacobian(s.v, s.system);
     s.dv.setZero(3 * n);
     if (k == 0 && has_history(model, state, eq.h, eq.t)) {
       for (int i = 0; i < n; ++i) {
@@ -538,9 +537,9 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     report.residuals.push_back(r);
     settled = accepted == 1.0 && contact_changes == 0;
     report.converged = (r <= target);
-    // Converged with these contacts: sticking ones the friction cone cannot hold slide,
-    // sliding ones their friction turned back stick, and Newton goes on.
-    if (report.converged && settled && s.contacts.switch_modes(s.v) > 0) {
+    // Converged with these contacts: sticking ones the friction cone cannot hold slide, and
+    // Newton goes on.
+    if (report.converged && settled && s.contacts.switch_modes() > 0) {
       report.contact_changes += 1;
       settled = false;
       t0 = std::clock();

@@ -4,6 +4,7 @@
 // energy.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <random>
@@ -218,9 +219,9 @@ TEST(Contact, InclineWithFrictionBelowTanASlidesAgainstCoulombFriction) {
 }
 
 // A new contact with friction starts in the mode Coulomb's law predicts from the velocity
-// it was caught with: a vertex skimming the plane fast slides, with friction mu times the
-// impulse that stops its approach (and gravity's push over the step), against its sliding;
-// one landing steeply sticks. Without velocities a new contact sticks.
+// it was caught with: a vertex skimming the plane fast slides, with friction of at most mu
+// times the impulse that stops its approach (and gravity's push over the step); one landing
+// steeply sticks. Without velocities a new contact sticks.
 TEST(Contact, NewContactStartsInTheModeCoulombPredicts) {
   const double h = 1.0 / 60.0, mu = 0.5;
   Sheet s = cotton_sheet(0.2, 2, Integrator::BackwardEuler, h);
@@ -241,10 +242,65 @@ TEST(Contact, NewContactStartsInTheModeCoulombPredicts) {
   const VertexContact skimming = caught(Vec3(2.0, 0.0, -0.1), true);
   EXPECT_EQ(skimming.mode, ContactMode::Slide);
   const double approach = 0.1 + kG * h;  // m/s
-  const Vec3 expected = -mu * s.model.mass[0] * approach * Vec3::UnitX();
-  EXPECT_LT((skimming.friction_impulse - expected).norm(), 1e-12 * expected.norm());
+  const double expected = mu * s.model.mass[0] * approach;  // kg*m/s
+  EXPECT_NEAR(skimming.friction_limit, expected, 1e-12 * expected);
   EXPECT_EQ(caught(Vec3(0.05, 0.0, -2.0), true).mode, ContactMode::Stick);
   EXPECT_EQ(caught(Vec3(2.0, 0.0, -0.1), false).mode, ContactMode::Stick);
+}
+
+// The smoothed friction of sliding contacts: F(v) is minus the gradient of its potential,
+// and the block added to the system matrix is -dF/dv, both against central differences, at
+// sliding speeds below, around and well above kSlidingSpeed.
+TEST(Contact, SlidingFrictionMatchesItsPotentialAndJacobian) {
+  const double h = 1.0 / 60.0, mu = 0.4;
+  Sheet s = cotton_sheet(0.2, 3, Integrator::BackwardEuler, h);
+  const Vec3 normal = Vec3(0.2, -0.1, 1.0).normalized();
+  const Obstacle ground = plane(Vec3(0, 0, 0.5), normal, mu, 0.0);
+  const std::vector<PlacedObstacle> placed = {place_obstacle(ground, 0.0)};
+  const int n = s.model.num_vertices();
+  // Every vertex inside, caught skimming fast: all slide.
+  const Vec3List skimming(n, Vec3(3.0, 1.0, -0.2));
+  ContactSet contacts;
+  contacts.clear(n);
+  ASSERT_EQ(contacts.detect(s.model, placed, s.state.x, 0.0, 0.0, &skimming, h), n);
+  for (const VertexContact& c : contacts.contacts()) {
+    ASSERT_EQ(c.mode, ContactMode::Slide);
+    ASSERT_GT(c.friction_limit, 0.0);
+  }
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Vec3List v(n);
+  for (int i = 0; i < n; ++i) {
+    const double speed = kSlidingSpeed * std::pow(10.0, 1.5 * unit(rng));  // eps/30 .. 30 eps
+    v[i] = speed * Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+  }
+  Eigen::VectorXd friction = Eigen::VectorXd::Zero(3 * n);
+  contacts.add_friction(v, friction);
+  SystemMatrix system;
+  system.assemble(s.model, s.state.x, v, 0.0, h, /*project_psd=*/true);
+  const Eigen::MatrixXd before = system.matrix().to_dense();
+  contacts.add_friction_jacobian(v, system);
+  const Eigen::MatrixXd block = system.matrix().to_dense() - before;
+  const double d = 1e-3 * kSlidingSpeed;  // m/s
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  Eigen::VectorXd gradient(3 * n);
+  for (int k = 0; k < 3 * n; ++k) {
+    Vec3List plus = v, minus = v;
+    plus[k / 3][k % 3] += d;
+    minus[k / 3][k % 3] -= d;
+    gradient[k] = (contacts.friction_potential(plus) - contacts.friction_potential(minus)) / (2 * d);
+    Eigen::VectorXd f_plus = Eigen::VectorXd::Zero(3 * n), f_minus = f_plus;
+    contacts.add_friction(plus, f_plus);
+    contacts.add_friction(minus, f_minus);
+    expected.col(k) = -(f_plus - f_minus) / (2 * d);
+  }
+  EXPECT_LT((friction + gradient).norm(), 1e-6 * friction.norm());
+  EXPECT_LT((block - expected).norm(), 1e-5 * expected.norm());
+  EXPECT_GT(expected.norm(), 0.0);
+  // Symmetric positive semi-definite.
+  EXPECT_LT((block - block.transpose()).norm(), 1e-12 * block.norm());
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(block).eigenvalues().minCoeff(),
+            -1e-9 * block.norm());
 }
 
 // --- Spheres ---------------------------------------------------------------------------
