@@ -218,6 +218,39 @@ TEST(Contact, InclineWithFrictionBelowTanASlidesAgainstCoulombFriction) {
   for (const Vec3& v : in.sheet.state.v) EXPECT_NEAR(v.dot(in.down_slope), expected, 1e-6 * expected);
 }
 
+// A sheet sliding on a level plane with friction: Coulomb's law decelerates it at mu g
+// (backward Euler: exactly mu g h a step) until it stops, within a step of v0 / (mu g);
+// then it sticks: no creep, no velocity left.
+TEST(Contact, SlidingSheetDeceleratesAtMuGThenSticks) {
+  const double h = 1.0 / 60.0, mu = 0.5, v0 = 0.6;  // s, -, m/s
+  Incline in = sheet_on_incline(0.0, mu, h);
+  const Vec3 along = Vec3(1.0, 0.3, 0.0).normalized();
+  for (Vec3& v : in.sheet.state.v) v = v0 * along;
+  Workspace ws;
+  const int sliding_steps = static_cast<int>(std::floor(v0 / (mu * kG * h)));  // 7
+  for (int k = 1; k < sliding_steps; ++k) {
+    ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+    const double expected = v0 - k * mu * kG * h;  // m/s
+    for (const Vec3& v : in.sheet.state.v) {
+      EXPECT_NEAR(v.dot(along), expected, 1e-6 * v0) << "step " << k;
+      EXPECT_LT((v - v.dot(along) * along).norm(), 1e-6 * v0) << "step " << k;
+    }
+  }
+  for (int k = 0; k < 3; ++k) ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+  const Vec3List stopped = in.sheet.state.x;
+  double drift = 0.0, speed = 0.0;
+  for (int k = 0; k < 30; ++k) {
+    ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+    for (size_t i = 0; i < stopped.size(); ++i) {
+      drift = std::max(drift, (in.sheet.state.x[i] - stopped[i]).norm());
+      speed = std::max(speed, in.sheet.state.v[i].norm());
+    }
+  }
+  EXPECT_LT(drift, 1e-9);
+  EXPECT_LT(speed, 1e-8);
+  EXPECT_EQ(last_implicit_report(ws)->stuck_contacts, in.sheet.model.num_vertices());
+}
+
 // A new contact with friction starts in the mode Coulomb's law predicts from the velocity
 // it was caught with: a vertex skimming the plane fast slides, with friction of at most mu
 // times the impulse that stops its approach (and gravity's push over the step); one landing
