@@ -1,4 +1,5 @@
-// How a run is rendered: the scene's "render" block (docs/rendering.md lists every key).
+// How a run is rendered: plain settings, read from a scene's "render" block by
+// view/render_block.h (docs/rendering.md lists every key).
 #pragma once
 
 #include <optional>
@@ -7,7 +8,6 @@
 
 #include "core/types.h"
 #include "render/camera.h"
-#include "scene/json_reader.h"
 
 namespace tissu {
 
@@ -61,14 +61,5 @@ struct RenderSettings {
 
   static std::vector<Light> default_lights();
 };
-
-// Reads a "render" block (every key optional). `scene_up` is the scene's up when the block
-// gives none (minus gravity). Camera, lights and ground given in the block are in the
-// scene's coordinates; the default lights and camera up follow `up`. Throws InputError
-// "<json path>: <problem>" for bad values and unknown keys (finish() is called).
-RenderSettings parse_render_settings(JsonReader& render, const Vec3& scene_up = Vec3::UnitZ());
-
-// Up for a scene whose gravity is `gravity` (m/s^2): -gravity, or +z without gravity.
-Vec3 up_from_gravity(const std::optional<Vec3>& gravity);
 
 }  // namespace tissu

@@ -1,5 +1,7 @@
 #include "view/scene_render_settings.h"
 
+#include "view/render_block.h"
+
 namespace tissu {
 
 RenderSettings render_settings_of(const Scene& scene) {

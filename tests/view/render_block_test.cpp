@@ -1,4 +1,4 @@
-#include "render/render_settings.h"
+#include "view/render_block.h"
 
 #include <gtest/gtest.h>
 
