@@ -4,7 +4,7 @@
 //
 //   tissu_aa_quality REFERENCE_2X.png CANDIDATE.png... [--crop X Y W H] [--out CROPS.png]
 //
-// Also times render/fxaa.h on the first candidate (processor time of this thread, best of
+// Also times render/image/fxaa.h on the first candidate (processor time of this thread, best of
 // 20 runs) and counts the pixels it changes.
 //
 // REFERENCE_2X is the same frame drawn at twice the width and height with MSAA 4; each
@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "render/cpu_clock.h"
-#include "render/fxaa.h"
+#include "render/image/fxaa.h"
 #include "video/image.h"
 #include "video/png_io.h"
 

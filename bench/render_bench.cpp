@@ -5,7 +5,7 @@
 //                      [--replay] [--passes] [--out DIR]
 //
 // Default: the demo scene (scenes/demo.json), all its frames, MSAA 4 then 1 ("fxaa": one
-// sample and FXAA, render/fxaa.h). For each setting
+// sample and FXAA, render/image/fxaa.h). For each setting
 // the scene is simulated and rendered to an MP4 in DIR (default: a temporary directory)
 // exactly as `tissu render` does it (RenderSink: drawing and encoding overlap the
 // simulation), and the times are printed.

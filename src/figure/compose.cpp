@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "render/text_overlay.h"
+#include "text/font.h"
 
 namespace tissu {
 
@@ -37,7 +37,7 @@ void blit(Image& page, const Image& panel, int x0, int y0) {
 }  // namespace
 
 TextPainter::TextPainter(float pixel_height)
-    : atlas_(std::make_unique<FontAtlas>(overlay_font_path(), pixel_height)) {}
+    : atlas_(std::make_unique<FontAtlas>(default_font_file(), pixel_height)) {}
 
 float TextPainter::width(const std::string& text) const { return atlas_->width(text); }
 float TextPainter::line_height() const { return atlas_->line_height(); }

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/types.h"
-#include "render/font_atlas.h"
+#include "text/font_atlas.h"
 #include "video/image.h"
 
 namespace tissu {
@@ -16,7 +16,7 @@ namespace tissu {
 class TextPainter {
  public:
   // `pixel_height`: ascender-to-descender height. The font is the renderer's overlay font
-  // (overlay_font_path()). Throws RenderError when it cannot be read.
+  // (default_font_file()). Throws RenderError when it cannot be read.
   explicit TextPainter(float pixel_height);
 
   float width(const std::string& text) const;

@@ -5,20 +5,20 @@
 #include <cmath>
 #include <map>
 
-#include "render/cloth_geometry.h"
-#include "render/fxaa.h"
-#include "render/ground_geometry.h"
-#include "render/obstacle_meshes.h"
-#include "render/offscreen_context.h"
-#include "render/pass_timer.h"
+#include "render/draw/cloth_geometry.h"
+#include "render/draw/ground_geometry.h"
+#include "render/draw/obstacle_meshes.h"
+#include "render/draw/shadow_map.h"
+#include "render/draw/text_overlay.h"
+#include "render/draw/view_math.h"
+#include "render/gl/offscreen_context.h"
+#include "render/gl/pass_timer.h"
+#include "render/gl/shader_files.h"
+#include "render/gl/shader_program.h"
+#include "render/image/fxaa.h"
 #include "render/render_error.h"
 #include "render/scene_bounds.h"
-#include "render/shader_files.h"
-#include "render/shader_program.h"
-#include "render/shadow_map.h"
-#include "render/text_overlay.h"
 #include "render/up_axis.h"
-#include "render/view_math.h"
 
 namespace tissu {
 

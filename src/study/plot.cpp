@@ -177,7 +177,7 @@ void Canvas::marker(Marker shape, double x, double y, double size, Rgb color) {
   }
 }
 
-void Canvas::text(const PlotFont& font, const std::string& s, double x, double y,
+void Canvas::text(const BitmapFont& font, const std::string& s, double x, double y,
                   double pixel_height, Rgb color, Align h, Align v, bool vertical) {
   const TextBitmap bm = font.render(s, pixel_height);
   const int box_w = vertical ? bm.height : bm.width;
@@ -230,7 +230,7 @@ PlotFrame plot_frame(const LogLogPlot& plot) {
   return f;
 }
 
-Image render_plot(const LogLogPlot& plot, const PlotFont& font) {
+Image render_plot(const LogLogPlot& plot, const BitmapFont& font) {
   Canvas c(plot.width, plot.height, kWhite);
   const PlotFrame f = plot_frame(plot);
   const double tick_font = 15, label_font = 17, title_font = 20;

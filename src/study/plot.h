@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "study/plot_font.h"
+#include "text/text_bitmap.h"
 #include "video/image.h"
 
 namespace tissu {
@@ -41,7 +41,7 @@ class Canvas {
   void marker(Marker shape, double x, double y, double size, Rgb color);
   // Text anchored at (x, y): horizontal/vertical alignment of its box; `vertical` turns it
   // 90 degrees counter-clockwise (reading upwards).
-  void text(const PlotFont& font, const std::string& s, double x, double y, double pixel_height,
+  void text(const BitmapFont& font, const std::string& s, double x, double y, double pixel_height,
             Rgb color, Align h = Align::Start, Align v = Align::Start, bool vertical = false);
 
  private:
@@ -84,7 +84,7 @@ PlotFrame plot_frame(const LogLogPlot& plot);
 
 // Draws the plot: white background, decade grid and labels, one polyline with markers per
 // series, legend in the top right corner. Non-positive values are left out.
-Image render_plot(const LogLogPlot& plot, const PlotFont& font);
+Image render_plot(const LogLogPlot& plot, const BitmapFont& font);
 
 // A palette of distinct colours and markers for series number `i`.
 Rgb series_color(int i);

@@ -356,7 +356,7 @@ void write_study_plot(const StudyResult& study, const std::string& path) {
   if (study.ref_rms_worst > 0.0) {
     plot.lines.push_back({"reference error", study.ref_rms_worst * 1e3, Rgb{120, 120, 120}});
   }
-  const PlotFont font(default_plot_font_file());
+  const BitmapFont font(default_font_file());
   write_png(path, render_plot(plot, font));
 }
 

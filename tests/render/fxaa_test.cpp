@@ -1,6 +1,6 @@
-// FXAA on the processor (render/fxaa.h): flat areas untouched, aliased edges brought closer
+// FXAA on the processor (render/image/fxaa.h): flat areas untouched, aliased edges brought closer
 // to their true coverage.
-#include "render/fxaa.h"
+#include "render/image/fxaa.h"
 
 #include <gtest/gtest.h>
 

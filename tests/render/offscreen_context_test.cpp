@@ -1,11 +1,11 @@
-#include "render/offscreen_context.h"
+#include "render/gl/offscreen_context.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <cstdlib>
 
-#include "render/gl.h"
+#include "render/gl/gl.h"
 #include "render/render_error.h"
 #include "test_scenes.h"
 

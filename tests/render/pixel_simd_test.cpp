@@ -1,4 +1,4 @@
-#include "render/pixel_simd.h"
+#include "render/image/pixel_simd.h"
 
 #include <gtest/gtest.h>
 #include <hwy/targets.h>

@@ -4,12 +4,10 @@
 #include <cmath>
 
 #include "render/camera.h"
-#include "render/cloth_geometry.h"
-#include "render/font_atlas.h"
-#include "render/ground_geometry.h"
+#include "render/draw/cloth_geometry.h"
+#include "render/draw/ground_geometry.h"
+#include "render/gl/shader_files.h"
 #include "render/scene_bounds.h"
-#include "render/shader_files.h"
-#include "render/text_overlay.h"
 #include "test_scenes.h"
 
 namespace tissu {
@@ -178,34 +176,6 @@ TEST(render_geometry, SearchListStartsWithTheExplicitDirectory) {
   EXPECT_EQ(dirs[0], "/explicit");
   EXPECT_NE(dirs[1].find("/shaders"), std::string::npos);
   EXPECT_EQ(dirs.back(), std::string(TISSU_SOURCE_DIR) + "/shaders");
-}
-
-TEST(render_geometry, DecodesUtf8) {
-  EXPECT_EQ(decode_utf8("a\xC3\xA9\xCE\x94"), (std::vector<uint32_t>{'a', 0xE9, 0x394}));
-  EXPECT_EQ(decode_utf8("\xFF" "b"), (std::vector<uint32_t>{0xFFFD, 'b'}));
-}
-
-TEST(render_geometry, FontLayoutAndWrapping) {
-  const FontAtlas font(overlay_font_path(), 20.0f);
-  EXPECT_GT(font.width("WWW"), font.width("iii"));
-  std::vector<GlyphQuad> quads;
-  font.layout("A b", 10, 30, &quads);
-  EXPECT_EQ(quads.size(), 2u);  // the space has no quad
-  EXPECT_LT(quads[0].y0, 30.0f);  // glyphs rise above the baseline (y down)
-  const std::vector<std::string> lines =
-      wrap_text(font, "one two three four five six seven", font.width("one two three"));
-  ASSERT_GE(lines.size(), 3u);
-  EXPECT_EQ(lines[0], "one two three");
-  for (const std::string& line : lines) EXPECT_LE(font.width(line), font.width("one two three"));
-}
-
-TEST(render_geometry, MissingFontIsNamed) {
-  try {
-    FontAtlas font("/nonexistent/font.ttf", 12.0f);
-    FAIL() << "no error";
-  } catch (const std::exception& e) {
-    EXPECT_STREQ(e.what(), "/nonexistent/font.ttf: cannot read the TrueType font for text overlays");
-  }
 }
 
 }  // namespace

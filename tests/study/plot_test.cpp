@@ -62,7 +62,7 @@ TEST(RenderPlot, PngWithLineAndMarkersWhereTheDataAre) {
   s.x = {0.2, 20.0};
   s.y = {3.0, 300.0};
   plot.series.push_back(s);
-  const PlotFont font(default_plot_font_file());
+  const BitmapFont font(default_font_file());
   const Image image = render_plot(plot, font);
 
   // Written and read back as a PNG of the requested size.
@@ -105,17 +105,13 @@ TEST(Canvas, LineCoversItsPixelsAndNothingFar) {
 
 TEST(Canvas, TextDrawsInk) {
   Canvas c(200, 60, Rgb{255, 255, 255});
-  const PlotFont font(default_plot_font_file());
+  const BitmapFont font(default_font_file());
   c.text(font, "10^3 mm", 10, 10, 20, Rgb{0, 0, 0});
   int ink = 0;
   for (int y = 0; y < 60; ++y) {
     for (int x = 0; x < 200; ++x) ink += c.image().pixel(x, y)[0] < 128;
   }
   EXPECT_GT(ink, 50);
-}
-
-TEST(PlotFont, MissingFileIsAnOutputError) {
-  EXPECT_ANY_THROW(PlotFont("/nonexistent/font.ttf"));
 }
 
 }  // namespace

@@ -1,9 +1,9 @@
-#include "render/obstacle_meshes.h"
+#include "render/draw/obstacle_meshes.h"
 
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "render/view_math.h"
+#include "render/draw/view_math.h"
 
 namespace tissu {
 

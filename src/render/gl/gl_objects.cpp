@@ -1,4 +1,4 @@
-#include "render/gl_objects.h"
+#include "render/gl/gl_objects.h"
 
 #include <cstdio>
 #include <string>

@@ -19,7 +19,7 @@ struct GlyphQuad {
 
 class FontAtlas {
  public:
-  // `pixel_height`: ascender-to-descender height in pixels. Throws RenderError
+  // `pixel_height`: ascender-to-descender height in pixels. Throws OutputError
   // naming the file when it cannot be read or is not a TrueType font.
   FontAtlas(const std::string& ttf_path, float pixel_height);
   ~FontAtlas();

@@ -1,11 +1,11 @@
 // See pixel_simd.h. Compiled once per instruction set by Highway's foreach_target (this
 // file includes itself).
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "render/pixel_simd.cpp"
+#define HWY_TARGET_INCLUDE "render/image/pixel_simd.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
-#include "render/pixel_simd.h"
+#include "render/image/pixel_simd.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace tissu {

@@ -1,4 +1,4 @@
-#include "render/ground_geometry.h"
+#include "render/draw/ground_geometry.h"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 #include <glm/glm.hpp>
 
 #include "render/frame_content.h"
-#include "render/mesh_buffer.h"
+#include "render/gl/mesh_buffer.h"
 
 namespace tissu {
 

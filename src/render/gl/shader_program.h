@@ -8,7 +8,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "render/gl_objects.h"
+#include "render/gl/gl_objects.h"
 
 namespace tissu {
 

@@ -1,10 +1,10 @@
-#include "render/fxaa.h"
+#include "render/image/fxaa.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "render/pixel_simd.h"
+#include "render/image/pixel_simd.h"
 
 namespace tissu {
 

@@ -1,12 +1,9 @@
-#include "render/text_overlay.h"
+#include "render/draw/text_overlay.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 
-#ifndef TISSU_FONT_FILE
-#define TISSU_FONT_FILE "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
-#endif
+#include "text/font.h"
 
 namespace tissu {
 
@@ -20,11 +17,6 @@ const glm::vec4 kTextColor(0.97f, 0.97f, 0.97f, 1.0f);
 const glm::vec4 kShadowColor(0.0f, 0.0f, 0.0f, 0.55f);
 
 }  // namespace
-
-std::string overlay_font_path() {
-  if (const char* path = std::getenv("TISSU_FONT_FILE")) return path;
-  return TISSU_FONT_FILE;
-}
 
 TextOverlay::TextOverlay(const std::vector<std::string>& shader_dirs, int width, int height)
     : width_(width),
@@ -45,7 +37,7 @@ TextOverlay::TextOverlay(const std::vector<std::string>& shader_dirs, int width,
 TextOverlay::Font& TextOverlay::font(std::unique_ptr<Font>& slot, float pixel_height) {
   if (slot) return *slot;
   slot = std::make_unique<Font>();
-  slot->atlas = std::make_unique<FontAtlas>(overlay_font_path(), pixel_height);
+  slot->atlas = std::make_unique<FontAtlas>(default_font_file(), pixel_height);
   slot->texture = make_texture();
   const int size = slot->atlas->atlas_size();
   glBindTexture(GL_TEXTURE_2D, slot->texture.get());

@@ -1,9 +1,9 @@
-#include "render/cloth_geometry.h"
+#include "render/draw/cloth_geometry.h"
 
 #include <string>
 
+#include "render/draw/view_math.h"
 #include "render/render_error.h"
-#include "render/view_math.h"
 
 namespace tissu {
 

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "render/font_atlas.h"
-#include "render/gl_objects.h"
-#include "render/shader_program.h"
+#include "render/gl/gl_objects.h"
+#include "render/gl/shader_program.h"
+#include "text/font_atlas.h"
 
 namespace tissu {
 
@@ -36,9 +36,5 @@ class TextOverlay {
   GlBuffer vertices_;
   std::unique_ptr<Font> caption_font_, corner_font_;
 };
-
-// The font used for overlays: DejaVuSans.ttf found at build time, or TISSU_FONT_FILE
-// from the environment when set.
-std::string overlay_font_path();
 
 }  // namespace tissu

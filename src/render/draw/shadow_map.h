@@ -4,7 +4,7 @@
 
 #include <glm/glm.hpp>
 
-#include "render/gl_objects.h"
+#include "render/gl/gl_objects.h"
 #include "render/scene_bounds.h"
 
 namespace tissu {

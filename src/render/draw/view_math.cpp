@@ -1,4 +1,4 @@
-#include "render/view_math.h"
+#include "render/draw/view_math.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 

@@ -1,7 +1,7 @@
-#include "render/offscreen_context.h"
+#include "render/gl/offscreen_context.h"
 
-// render/gl.h first: it must define GL_GLEXT_PROTOTYPES before osmesa.h pulls in GL/gl.h.
-#include "render/gl.h"
+// render/gl/gl.h first: it must define GL_GLEXT_PROTOTYPES before osmesa.h pulls in GL/gl.h.
+#include "render/gl/gl.h"
 
 #include <GL/osmesa.h>
 
@@ -9,9 +9,9 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "render/gl_objects.h"
-#include "render/pass_timer.h"
-#include "render/pixel_simd.h"
+#include "render/gl/gl_objects.h"
+#include "render/gl/pass_timer.h"
+#include "render/image/pixel_simd.h"
 #include "render/render_error.h"
 
 namespace tissu {

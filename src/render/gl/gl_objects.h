@@ -4,7 +4,7 @@
 
 #include <utility>
 
-#include "render/gl.h"
+#include "render/gl/gl.h"
 
 namespace tissu {
 

@@ -1,7 +1,7 @@
-#include "render/pass_timer.h"
+#include "render/gl/pass_timer.h"
 
 #include "render/cpu_clock.h"
-#include "render/gl.h"
+#include "render/gl/gl.h"
 
 namespace tissu {
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "render/gl_objects.h"
+#include "render/gl/gl_objects.h"
 
 namespace tissu {
 

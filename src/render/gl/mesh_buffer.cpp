@@ -1,4 +1,4 @@
-#include "render/mesh_buffer.h"
+#include "render/gl/mesh_buffer.h"
 
 #include <cstddef>
 

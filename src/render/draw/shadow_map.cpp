@@ -1,9 +1,9 @@
-#include "render/shadow_map.h"
+#include "render/draw/shadow_map.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "render/draw/view_math.h"
 #include "render/render_error.h"
-#include "render/view_math.h"
 
 namespace tissu {
 

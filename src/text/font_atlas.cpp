@@ -1,12 +1,11 @@
-#include "render/font_atlas.h"
+#include "text/font_atlas.h"
 
 #include <stb_truetype.h>
 
 #include <cmath>
-#include <fstream>
-#include <iterator>
 
-#include "render/render_error.h"
+#include "core/error.h"
+#include "text/font.h"
 
 namespace tissu {
 
@@ -26,13 +25,8 @@ struct FontAtlas::Glyphs {
 
 FontAtlas::FontAtlas(const std::string& ttf_path, float pixel_height)
     : glyphs_(std::make_unique<Glyphs>()) {
-  std::ifstream in(ttf_path, std::ios::binary);
-  const std::vector<unsigned char> ttf((std::istreambuf_iterator<char>(in)),
-                                       std::istreambuf_iterator<char>());
-  stbtt_fontinfo info;
-  if (ttf.empty() || !stbtt_InitFont(&info, ttf.data(), stbtt_GetFontOffsetForIndex(ttf.data(), 0))) {
-    throw RenderError(ttf_path + ": cannot read the TrueType font for text overlays");
-  }
+  const TrueTypeFont font(ttf_path);
+  const stbtt_fontinfo& info = font.info();
   int ascent = 0, descent = 0, gap = 0;
   stbtt_GetFontVMetrics(&info, &ascent, &descent, &gap);
   const float scale = stbtt_ScaleForPixelHeight(&info, pixel_height);
@@ -55,14 +49,14 @@ FontAtlas::FontAtlas(const std::string& ttf_path, float pixel_height)
     }
     stbtt_pack_context pack;
     if (!stbtt_PackBegin(&pack, pixels_.data(), atlas_size_, atlas_size_, 0, 1, nullptr)) {
-      throw RenderError(ttf_path + ": cannot start packing the font atlas");
+      throw OutputError(ttf_path + ": cannot start packing the font atlas");
     }
-    const int packed = stbtt_PackFontRanges(&pack, ttf.data(), 0, ranges.data(),
+    const int packed = stbtt_PackFontRanges(&pack, font.data(), 0, ranges.data(),
                                             static_cast<int>(ranges.size()));
     stbtt_PackEnd(&pack);
     if (packed) break;
     if (atlas_size_ >= 8192) {
-      throw RenderError(ttf_path + ": glyphs of " + std::to_string(pixel_height) +
+      throw OutputError(ttf_path + ": glyphs of " + std::to_string(pixel_height) +
                         " px do not fit an 8192 px atlas");
     }
   }

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "render/frame_content.h"
-#include "render/mesh_buffer.h"
+#include "render/gl/mesh_buffer.h"
 
 namespace tissu {
 

@@ -1,9 +1,9 @@
-#include "render/shader_program.h"
+#include "render/gl/shader_program.h"
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "render/gl/shader_files.h"
 #include "render/render_error.h"
-#include "render/shader_files.h"
 
 namespace tissu {
 

@@ -10,7 +10,7 @@
 #include <optional>
 #include <vector>
 
-#include "render/mesh_buffer.h"
+#include "render/gl/mesh_buffer.h"
 #include "render/scene_bounds.h"
 
 namespace tissu {

@@ -1,45 +1,16 @@
-// stb_truetype with internal linkage (see plot_font.h), compiled without warnings.
-#define STBTT_STATIC
-#define STB_TRUETYPE_IMPLEMENTATION
+#include "text/text_bitmap.h"
+
 #include <stb_truetype.h>
 
-#include "study/plot_font.h"
-
+#include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 
-#include "core/error.h"
 #include "core/utf8.h"
-
-#ifndef TISSU_PLOT_FONT_FILE
-#define TISSU_PLOT_FONT_FILE "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
-#endif
 
 namespace tissu {
 
-struct PlotFont::Impl {
-  std::vector<unsigned char> data;
-  stbtt_fontinfo info{};
-};
-
-std::string default_plot_font_file() { return TISSU_PLOT_FONT_FILE; }
-
-PlotFont::PlotFont(const std::string& ttf_file) : impl_(std::make_unique<Impl>()) {
-  std::ifstream in(ttf_file, std::ios::binary);
-  if (!in) throw OutputError(ttf_file + ": cannot read the plot font");
-  impl_->data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  if (impl_->data.empty() ||
-      !stbtt_InitFont(&impl_->info, impl_->data.data(),
-                      stbtt_GetFontOffsetForIndex(impl_->data.data(), 0))) {
-    throw OutputError(ttf_file + ": not a TrueType font");
-  }
-}
-
-PlotFont::~PlotFont() = default;
-
-TextBitmap PlotFont::render(const std::string& text, double pixel_height) const {
-  const stbtt_fontinfo& info = impl_->info;
+TextBitmap BitmapFont::render(const std::string& text, double pixel_height) const {
+  const stbtt_fontinfo& info = font_.info();
   const float scale = stbtt_ScaleForPixelHeight(&info, static_cast<float>(pixel_height));
   int ascent = 0, descent = 0, gap = 0;
   stbtt_GetFontVMetrics(&info, &ascent, &descent, &gap);

@@ -1,4 +1,4 @@
-#include "render/shader_files.h"
+#include "render/gl/shader_files.h"
 
 #include <unistd.h>
 
