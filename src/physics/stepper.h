@@ -1,7 +1,7 @@
 // Taking a run's steps: each step keeps, on request, the state it started from (for frames
 // or samples that fall inside it, and to fall back on after a divergence), and adds what it
-// cost and did to the run's totals. Every loop around step() uses it: tissu run and render,
-// studies, figure panels and the paper's experiments.
+// cost and did to the run's totals. The run driver (run_driver.h), which every loop around
+// step() is made of, takes its steps with it.
 #pragma once
 
 #include <optional>
