@@ -9,6 +9,7 @@
 #include "app/signals.h"
 #include "mesh/obj_writer.h"
 #include "physics/forces.h"
+#include "physics/run_driver.h"
 #include "video/progress_bar.h"
 
 namespace tissu {
@@ -26,6 +27,7 @@ std::string obj_frame_path(const std::string& dir, long long step) {
 }
 
 }  // namespace
+
 
 const char* run_status_name(RunStatus status) {
   switch (status) {
@@ -45,111 +47,141 @@ long long steps_per_frame(double dt, double frames_per_second) {
   return std::max<long long>(1, std::llround(1.0 / (frames_per_second * dt)));
 }
 
+namespace {
+
+// The report's frames: one row per frame time k / rate, the crossing check, the sink, and
+// the state the run ends on when it is not a frame.
+class FrameRecorder : public RunObserver {
+ public:
+  FrameRecorder(const Model& model, const RunOptions& options, double rate, FrameSink* sink,
+                RunResult& result)
+      : model_(model), options_(options), rate_(rate), sink_(sink), result_(result) {}
+
+  // False once the run has the frames it wants: it then stops (Stopped).
+  bool wants_more() const override {
+    const bool enough = options_.max_frames >= 0 && next_frame_ >= options_.max_frames;
+    return !enough && (!sink_ || sink_->wants_more());
+  }
+  std::optional<double> next_sample_time() const override {
+    if (!wants_more()) return std::nullopt;
+    return static_cast<double>(next_frame_) / rate_;
+  }
+  void sample(const State& shown, const SamplePoint& point) override {
+    const FrameStats stats = measure_frame(model_, shown);
+    result_.frames.push_back(stats);
+    if (options_.check) result_.checks.push_back(check_frame(model_, shown));
+    last_frame_x_ = shown.x;
+    exact_at_ = point.interpolated ? -1 : point.steps;
+    if (sink_) sink_->frame(model_, shown, stats);
+    ++next_frame_;
+  }
+  // The report ends on the state the run ends on, also between frame times (not a frame
+  // of the video).
+  void finish(const State& state, const DriveResult& run) override {
+    const bool end_recorded = exact_at_ == run.steps_done;
+    if (!end_recorded && run.end != RunEnd::Diverged) {
+      result_.end = measure_frame(model_, state);
+      last_frame_x_ = state.x;
+    }
+  }
+
+  long long frames() const { return next_frame_; }
+  const Vec3List& last_frame_x() const { return last_frame_x_; }
+
+ private:
+  const Model& model_;
+  const RunOptions& options_;
+  double rate_;  // frames per simulated second
+  FrameSink* sink_;
+  RunResult& result_;
+  long long next_frame_ = 0;
+  long long exact_at_ = -1;  // steps of the run at the last frame, when it was a step's state
+  Vec3List last_frame_x_;
+};
+
+// OBJ snapshots every `obj_every` steps, and final.obj: the state the run ends on, or the
+// last frame after a divergence.
+class ObjSnapshots : public RunObserver {
+ public:
+  ObjSnapshots(const Model& model, const RunOptions& options, const FrameRecorder& frames)
+      : model_(model), options_(options), frames_(frames) {}
+
+  long long sample_every() const override { return options_.obj_every; }
+  void sample(const State& state, const SamplePoint& point) override {
+    write_obj(obj_frame_path(options_.obj_dir, point.steps), state.x, model_.rest_uv,
+              model_.triangles);
+  }
+  void finish(const State& state, const DriveResult& run) override {
+    const bool good = run.end != RunEnd::Diverged;
+    write_obj((std::filesystem::path(options_.obj_dir) / "final.obj").string(),
+              good ? state.x : frames_.last_frame_x(), model_.rest_uv, model_.triangles);
+  }
+
+ private:
+  const Model& model_;
+  const RunOptions& options_;
+  const FrameRecorder& frames_;
+};
+
+// The progress line: frames and simulated time, after each step's frames.
+class ProgressLine : public RunObserver {
+ public:
+  ProgressLine(ProgressBar& bar, const FrameRecorder& frames) : bar_(bar), frames_(frames) {}
+  long long sample_every() const override { return 1; }
+  void sample(const State& state, const SamplePoint&) override {
+    bar_.update_frames(frames_.frames(), state.t);
+  }
+  void finish(const State&, const DriveResult&) override { bar_.finish(); }
+
+ private:
+  ProgressBar& bar_;
+  const FrameRecorder& frames_;
+};
+
+RunStatus run_status(RunEnd end) {
+  switch (end) {
+    case RunEnd::Completed: return RunStatus::Ok;
+    case RunEnd::Stopped: return RunStatus::Stopped;
+    case RunEnd::Diverged: return RunStatus::Diverged;
+    case RunEnd::Interrupted: return RunStatus::Interrupted;
+  }
+  return RunStatus::Ok;
+}
+
+}  // namespace
+
 RunResult run_simulation(const Scene& scene, Simulation& sim, const RunOptions& options,
                          FrameSink* sink) {
   const auto run_start = std::chrono::steady_clock::now();
   const Model& model = sim.model;
-  State& state = sim.state;
-  Stepper stepper(model, state, options.threads);
   RunResult result;
   result.threads = force_threads(options.threads, model);
-  Vec3List last_frame_x = state.x;  // final.obj falls back to it after a divergence
 
-  bool end_recorded = false;  // the state the run ends on is the last row
-  auto record = [&](const State& shown) {
-    const FrameStats stats = measure_frame(model, shown);
-    result.frames.push_back(stats);
-    if (options.check) result.checks.push_back(check_frame(model, shown));
-    last_frame_x = shown.x;
-    end_recorded = &shown == &state;
-    return stats;
-  };
-  auto emit_frame = [&](const State& shown) {
-    const FrameStats stats = record(shown);
-    if (sink) sink->frame(model, shown, stats);
-  };
-
-  // Frame k is at k / frame_rate; a frame within this fraction of a step of a step's end
-  // is that step's state (the time summed over steps drifts by round-off).
-  constexpr double kSameTime = 1e-6;
+  // Frame k is at k / rate, the state of the step that ends there or interpolated.
   const double rate = options.frame_rate > 0.0 ? options.frame_rate : 1.0 / model.dt;
-  long long next_frame = 0;
-  auto frame_time = [&](long long k) { return static_cast<double>(k) / rate; };
-
-  // False once the run has the frames it wants: it then stops (Stopped).
-  auto wants_frame = [&] {
-    const bool enough = options.max_frames >= 0 && next_frame >= options.max_frames;
-    return !enough && (!sink || sink->wants_more());
-  };
+  FrameRecorder frames(model, options, rate, sink, result);
+  std::vector<RunObserver*> observers = {&frames};
+  ObjSnapshots obj(model, options, frames);
+  if (!options.obj_dir.empty()) observers.push_back(&obj);
 
   // The progress line counts frames and simulated time, up to the last frame.
   long long total_frames = frame_count(static_cast<double>(scene.steps) * model.dt, rate);
   if (options.max_frames >= 0) total_frames = std::min(total_frames, options.max_frames);
-  ProgressBar progress = ProgressBar::on_stderr(options.progress_label, scene.steps);
-  progress.count_frames(total_frames, frame_time(total_frames - 1));
-  const State& before = stepper.before();  // kept when a frame falls inside the step
-  State between;
+  ProgressBar bar = ProgressBar::on_stderr(options.progress_label, scene.steps);
+  bar.count_frames(total_frames, static_cast<double>(total_frames - 1) / rate);
+  ProgressLine progress(bar, frames);
+  if (options.progress) observers.push_back(&progress);
 
-  for (long long s = 0;; ++s) {
-    const bool last = s == scene.steps;
-    // Frames that fall inside the step just taken, then one at its end.
-    if (s > 0 && stepper.has_before()) {
-      while (wants_frame() && frame_time(next_frame) < state.t - kSameTime * model.dt) {
-        const double w = (frame_time(next_frame) - before.t) / (state.t - before.t);
-        between.t = frame_time(next_frame);
-        between.step = before.step;
-        between.x.resize(state.x.size());
-        between.v.resize(state.v.size());
-        for (size_t i = 0; i < state.x.size(); ++i) {
-          between.x[i] = (1.0 - w) * before.x[i] + w * state.x[i];
-          between.v[i] = (1.0 - w) * before.v[i] + w * state.v[i];
-        }
-        emit_frame(between);
-        ++next_frame;
-      }
-    }
-    if (wants_frame() && std::fabs(frame_time(next_frame) - state.t) <= kSameTime * model.dt) {
-      emit_frame(state);
-      ++next_frame;
-    }
-    if (!options.obj_dir.empty() && options.obj_every > 0 && s % options.obj_every == 0) {
-      write_obj(obj_frame_path(options.obj_dir, s), state.x, model.rest_uv, model.triangles);
-    }
-    if (options.progress) progress.update_frames(next_frame, state.t);
-    if (last) break;
-    if (!wants_frame()) {
-      result.status = RunStatus::Stopped;
-      break;
-    }
-    if (interrupt_requested()) {
-      result.status = RunStatus::Interrupted;
-      break;
-    }
-    // Keep the state before the step when the next frame falls inside it.
-    const std::optional<Divergence> divergence =
-        stepper.advance(frame_time(next_frame) < state.t + (1.0 - kSameTime) * model.dt);
-    end_recorded = false;
-    result.steps_done = s + 1;
-    if (divergence) {
-      result.status = RunStatus::Diverged;
-      result.divergence = divergence;
-      break;
-    }
-  }
-  result.totals = stepper.totals();
+  DriveSpec spec;
+  spec.steps = scene.steps;
+  spec.threads = options.threads;
+  spec.interrupted = interrupt_requested;
+  const DriveResult run = drive(model, sim.state, spec, observers);
+  result.status = run_status(run.end);
+  result.steps_done = run.steps_done;
+  result.divergence = run.divergence;
+  result.totals = run.totals;
   result.times.simulate = result.totals.wall_seconds;
-  // The report ends on the state the run ends on, also between frame times (not a frame
-  // of the video).
-  if (!end_recorded && result.status != RunStatus::Diverged) {
-    result.end = measure_frame(model, state);
-    last_frame_x = state.x;
-  }
-  if (options.progress) progress.finish();
-  if (!options.obj_dir.empty()) {
-    const bool good = result.status != RunStatus::Diverged;
-    write_obj((std::filesystem::path(options.obj_dir) / "final.obj").string(),
-              good ? state.x : last_frame_x, model.rest_uv, model.triangles);
-  }
   result.times.total = seconds_since(run_start);
   return result;
 }

@@ -1,5 +1,5 @@
-// The simulation loop shared by `tissu run` and `tissu render`: steps the model, samples
-// frames at the video frame rate, writes OBJ snapshots, stops on divergence or interrupt.
+// The run of `tissu run` and `tissu render`, on the run driver (physics/run_driver.h): frames
+// at the video frame rate, OBJ snapshots, the progress line; stops on divergence or interrupt.
 #pragma once
 
 #include <optional>
