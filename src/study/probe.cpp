@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "physics/diagnostics.h"
-#include "physics/stepper.h"
+#include "physics/run_driver.h"
 
 namespace tissu {
 
@@ -81,6 +81,81 @@ Integrator parse_integrator_name(const std::string& name) {
   throw InputError("unknown integrator \"" + name + "\"; expected one of " + list);
 }
 
+namespace {
+
+// What a probe does besides stepping: the samples at the requested times (with their
+// energy), the caller's observer, and monitoring of the energy bound and obstacle clearance
+// (a failure ends the run).
+class ProbeObserver : public RunObserver {
+ public:
+  ProbeObserver(const Model& model, const ProbeSpec& spec, long long monitor_every,
+                ProbeResult& r)
+      : model_(model), spec_(spec), monitor_every_(monitor_every), r_(r),
+        times_(spec.sample_times) {
+    std::sort(times_.begin(), times_.end());
+  }
+
+  std::optional<double> next_sample_time() const override {
+    if (next_ == times_.size()) return std::nullopt;
+    return times_[next_];
+  }
+  void sample(const State& state, const SamplePoint& point) override {
+    Sample s;
+    s.time = point.time;
+    s.interpolated = point.interpolated;
+    s.x = state.x;
+    s.energy = measure_energy(model_, state.x, state.v);
+    r_.samples.push_back(std::move(s));
+    ++next_;
+  }
+  void reached(const State& state, long long steps) override {
+    if (spec_.observe) spec_.observe(state);
+    if (steps > 0 && spec_.monitored && steps % monitor_every_ == 0) monitor(state);
+  }
+  bool wants_more() const override { return r_.status == ProbeStatus::Ok; }
+  // The last step is always monitored.
+  void finish(const State& state, const DriveResult& run) override {
+    if (run.end == RunEnd::Completed && spec_.monitored && run.steps_done % monitor_every_ != 0) {
+      monitor(state);
+    }
+  }
+
+ private:
+  // Energy bound and obstacle penetration; sets the status when unstable.
+  void monitor(const State& state) {
+    const double e = measure_energy(model_, state.x, state.v).total();
+    r_.energy_max = std::max(r_.energy_max, e);
+    if (!(e <= r_.energy_bound)) {
+      r_.status = ProbeStatus::EnergyUnbounded;
+      r_.failure = Divergence{state.step, state.t, fastest_vertex(state),
+                              "total energy " + format_joules(e) + " exceeds the bound " +
+                                  format_joules(r_.energy_bound) + " (start " +
+                                  format_joules(r_.energy_start) + ")"};
+      return;
+    }
+    if (!model_.obstacles.empty()) {
+      const auto [vertex, depth] = deepest_vertex(model_, state);
+      r_.min_clearance = std::min(*r_.min_clearance, depth);
+      if (depth < -spec_.penetration_tolerance) {
+        std::ostringstream reason;
+        reason.precision(3);
+        reason << "vertex " << depth * 1e3 << " mm inside an obstacle";
+        r_.status = ProbeStatus::Penetration;
+        r_.failure = Divergence{state.step, state.t, vertex, reason.str()};
+      }
+    }
+  }
+
+  const Model& model_;
+  const ProbeSpec& spec_;
+  long long monitor_every_;
+  ProbeResult& r_;
+  std::vector<double> times_;  // s, ascending
+  size_t next_ = 0;
+};
+
+}  // namespace
+
 ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
   if (!(spec.dt > 0.0) || !(spec.duration >= 0.0)) {
     throw InputError("probe: dt must be > 0 and duration >= 0");
@@ -89,14 +164,12 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
   model.integrator = spec.integrator;
   model.dt = spec.dt;
   State state = base.state;
-  Stepper stepper(model, state);
 
   ProbeResult r;
   r.steps = spec.steps >= 0 ? spec.steps
                             : static_cast<long long>(std::ceil(spec.duration / spec.dt - 1e-9));
   const long long monitor_every =
       spec.monitor_every > 0 ? spec.monitor_every : std::max<long long>(1, r.steps / 256);
-  const double eps = 1e-9 * spec.dt;  // time tolerance for "on the step grid", s
 
   const Energy e0 = measure_energy(model, state.x, state.v);
   r.energy_start = e0.total();
@@ -105,99 +178,25 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
   r.energy_bound = r.energy_start + spec.energy_margin * r.energy_scale;
   if (!model.obstacles.empty()) r.min_clearance = min_clearance(model, state.x, state.t);
 
-  std::vector<double> times = spec.sample_times;
-  std::sort(times.begin(), times.end());
-  size_t next = 0;
-  const Vec3List& x_prev = stepper.before().x;  // the state before a step that crosses a
-  const Vec3List& v_prev = stepper.before().v;  // sample time
-
-  auto record_exact = [&](double t) {
-    Sample s;
-    s.time = t;
-    s.x = state.x;
-    s.energy = measure_energy(model, state.x, state.v);
-    r.samples.push_back(std::move(s));
-  };
-  auto record_between = [&](double t, double t0) {
-    const double a = (t - t0) / spec.dt;  // 0 at the previous step, 1 at this one
-    Sample s;
-    s.time = t;
-    s.interpolated = true;
-    s.x.resize(state.x.size());
-    Vec3List v(state.v.size());
-    for (size_t i = 0; i < state.x.size(); ++i) {
-      s.x[i] = (1.0 - a) * x_prev[i] + a * state.x[i];
-      v[i] = (1.0 - a) * v_prev[i] + a * state.v[i];
-    }
-    s.energy = measure_energy(model, s.x, v);
-    r.samples.push_back(std::move(s));
-  };
-
-  // Monitoring: energy bound and obstacle penetration; returns false when unstable.
-  auto monitor = [&]() -> bool {
-    const double e = measure_energy(model, state.x, state.v).total();
-    r.energy_max = std::max(r.energy_max, e);
-    if (!(e <= r.energy_bound)) {
-      r.status = ProbeStatus::EnergyUnbounded;
-      r.failure = Divergence{state.step, state.t, fastest_vertex(state),
-                             "total energy " + format_joules(e) + " exceeds the bound " +
-                                 format_joules(r.energy_bound) + " (start " +
-                                 format_joules(r.energy_start) + ")"};
-      return false;
-    }
-    if (!model.obstacles.empty()) {
-      const auto [vertex, depth] = deepest_vertex(model, state);
-      r.min_clearance = std::min(*r.min_clearance, depth);
-      if (depth < -spec.penetration_tolerance) {
-        std::ostringstream reason;
-        reason.precision(3);
-        reason << "vertex " << depth * 1e3 << " mm inside an obstacle";
-        r.status = ProbeStatus::Penetration;
-        r.failure = Divergence{state.step, state.t, vertex, reason.str()};
-        return false;
-      }
-    }
-    return true;
-  };
-
-  if (spec.observe) spec.observe(state);
-  for (long long s = 0;; ++s) {
-    // Samples at this step's time.
-    while (next < times.size() && times[next] <= state.t + eps) {
-      if (std::fabs(times[next] - state.t) <= eps || s == 0) {
-        record_exact(times[next]);
-      } else {
-        record_between(times[next], state.t - spec.dt);
-      }
-      ++next;
-    }
-    if (s == r.steps) {
-      if (spec.monitored && s % monitor_every != 0) monitor();
-      break;
-    }
-    if (spec.interrupted && spec.interrupted()) {
-      r.status = ProbeStatus::Interrupted;
-      break;
-    }
-    // Keep the state before a step that passes over a sample time, or that may diverge
-    // when the run must end on its last good state.
-    const std::optional<Divergence> divergence = stepper.advance(
-        spec.keep_end || (next < times.size() && times[next] < state.t + spec.dt - eps));
-    r.steps_done = s + 1;
-    if (divergence) {
-      r.status = ProbeStatus::Diverged;
-      r.failure = divergence;
-      if (spec.keep_end) stepper.restore_before();
-      break;
-    }
-    if (spec.observe) spec.observe(state);
-    if (spec.monitored && (s + 1) % monitor_every == 0 && !monitor()) break;
+  ProbeObserver observer(model, spec, monitor_every, r);
+  DriveSpec drive_spec;
+  drive_spec.steps = r.steps;
+  drive_spec.end_on_last_good = spec.keep_end;
+  drive_spec.interrupted = spec.interrupted;
+  drive_spec.same_time = 1e-9;  // the studies' tolerance, tighter than the frames'
+  const DriveResult run = drive(model, state, drive_spec, {&observer});
+  if (run.end == RunEnd::Diverged) {
+    r.status = ProbeStatus::Diverged;
+    r.failure = run.divergence;
+  } else if (run.end == RunEnd::Interrupted) {
+    r.status = ProbeStatus::Interrupted;
   }
+  r.steps_done = run.steps_done;
   if (spec.keep_end) r.end = std::move(state);
-  r.cpu_seconds = stepper.totals().cpu_seconds;
-  r.wall_seconds = stepper.totals().wall_seconds;
-  r.newton_iterations = stepper.totals().newton_iterations;
-  r.cg_iterations = stepper.totals().cg_iterations;
+  r.cpu_seconds = run.totals.cpu_seconds;
+  r.wall_seconds = run.totals.wall_seconds;
+  r.newton_iterations = run.totals.newton_iterations;
+  r.cg_iterations = run.totals.cg_iterations;
   r.simulated_time = static_cast<double>(r.steps_done) * spec.dt;
   return r;
 }
