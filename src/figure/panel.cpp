@@ -1,8 +1,9 @@
 #include "figure/panel.h"
 
+#include <algorithm>
 #include <sstream>
 
-#include "physics/stepper.h"
+#include "physics/run_driver.h"
 #include "render/scene_bounds.h"
 #include "view/drawn_frame.h"
 #include "view/scene_render_settings.h"
@@ -76,31 +77,48 @@ Scene load_panel_scene(const PanelSpec& panel, const std::string& figure_file) {
   }
 }
 
+namespace {
+
+// The panel's frames: iteration 0, every `frame_every` iterations, and the state the run
+// ends on (the iteration shown, or the last good state after a divergence).
+class PanelFrames : public RunObserver {
+ public:
+  PanelFrames(const Model& model, long long frame_every, const FrameCallback& on_frame)
+      : model_(model), frame_every_(frame_every), on_frame_(on_frame) {}
+
+  long long sample_every() const override { return frame_every_; }
+  void sample(const State& state, const SamplePoint&) override {
+    on_frame_(model_, state);
+    shown_step_ = state.step;
+  }
+  void finish(const State& state, const DriveResult&) override {
+    if (shown_step_ != state.step) on_frame_(model_, state);
+  }
+
+ private:
+  const Model& model_;
+  long long frame_every_;
+  const FrameCallback& on_frame_;
+  long long shown_step_ = -1;  // iteration of the last frame
+};
+
+}  // namespace
+
 PanelRun run_panel(const Scene& scene, long long step_shown, long long frame_every,
                    const FrameCallback& on_frame) {
   PanelRun run;
   run.requested = step_shown;
   run.sim = build_simulation(scene);
-  const Model& model = run.sim.model;
-  State& state = run.sim.state;
-  run.initial_x = state.x;
-  Stepper stepper(model, state);
-  auto frame_due = [&](long long s) {
-    return on_frame && (s == step_shown || (frame_every > 0 && s % frame_every == 0));
-  };
-  if (frame_due(0)) on_frame(model, state);
-  while (state.step < step_shown) {
-    // The state before the step is kept: after a divergence the panel shows it.
-    const std::optional<Divergence> divergence = stepper.advance(true);
-    if (divergence) {
-      run.divergence = divergence;
-      stepper.restore_before();
-      if (on_frame && !frame_due(state.step)) on_frame(model, state);  // video ends on it
-      break;
-    }
-    if (frame_due(state.step)) on_frame(model, state);
-  }
-  run.simulate_seconds = stepper.totals().wall_seconds;
+  run.initial_x = run.sim.state.x;
+  PanelFrames frames(run.sim.model, frame_every, on_frame);
+  std::vector<RunObserver*> observers;
+  if (on_frame) observers.push_back(&frames);
+  DriveSpec spec;
+  spec.steps = std::max<long long>(0, step_shown - run.sim.state.step);
+  spec.end_on_last_good = true;  // after a divergence the panel shows the last good state
+  const DriveResult result = drive(run.sim.model, run.sim.state, spec, observers);
+  run.divergence = result.divergence;
+  run.simulate_seconds = result.totals.wall_seconds;
   return run;
 }
 
