@@ -35,48 +35,22 @@
 #include <vector>
 
 #include "core/types.h"
+#include "physics/bending_stencil.h"
 #include "physics/force_term.h"
 
 namespace tissu {
 
-// Second-derivative stencil of one triangle: d^2x/du^2 at the triangle is approximated by
-// sum_j w_uu[j] x[vertex[j]] (exact when x is a quadratic function of (u, v), zero when it
-// is affine); the same for vv and uv.
-struct BendingStencil {
-  std::vector<int> vertex;    // vertex ids
-  std::vector<double> w_uu;   // 1/m^2, one per vertex
-  std::vector<double> w_vv;   // 1/m^2
-  std::vector<double> w_uv;   // 1/m^2
-  double area = 0.0;          // rest area of the triangle, m^2
-};
-
-struct BendingModel {
+// The stencils and their diagnostics (BendingStencils, bending_stencil.h), the material
+// and the assembled stiffness.
+struct BendingModel : BendingStencils {
   double bending_weft = 0.0;  // D11 = B_weft, N*m: bending that curves the u (weft) yarns
   double bending_warp = 0.0;  // D22 = B_warp, N*m: bending that curves the v (warp) yarns
   double twist = 0.0;         // D66 = (B_weft + B_warp)/4, N*m
   int num_vertices = 0;
-  std::vector<BendingStencil> stencils;  // (T) one per triangle
 
   // Assembled constant stiffness Q (V x V, N/m), symmetric positive semi-definite:
   // E = 1/2 sum_c X_c^T Q X_c over the three coordinates c.
   Eigen::SparseMatrix<double, Eigen::RowMajor> stiffness;
-
-  // Diagnostics of the precomputation.
-  // Triangles with fewer than 3 distinct hinge apices (a boundary or non-manifold edge, or
-  // a corner of valence 3): the missing extra vertices were chosen nearby.
-  int boundary_stencils = 0;
-  // Interior triangles whose hinge apices were ill-conditioned (nearly on one conic with
-  // the corners): a better-conditioned set of nearby vertices containing one apex was used.
-  int fallback_stencils = 0;
-  // Needle or cap triangles whose interpolating patch still had large weights: a
-  // least-squares quadratic over up to 12 nearby vertices was used instead.
-  int least_squares_stencils = 0;
-  // Triangles whose Hessian is their own patch's rather than the flux of the edge
-  // gradients: least-squares stencils and caps (see docs/bending.md).
-  int patch_hessians = 0;
-  // Triangles whose three corners are pinned: held rigid by a clamp, no bending energy.
-  int clamped_triangles = 0;
-  double max_amplification = 0.0;  // max over triangles of |w|_F l^2 (l^2: mean squared edge)
 };
 
 // Precomputes the bending model of a flat rest sheet with coordinates `rest_uv` (m).
