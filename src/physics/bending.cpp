@@ -83,13 +83,6 @@ double bending_energy(const BendingModel& model, const Vec3List& x) {
   return 0.5 * X.cwiseProduct(QX).sum();
 }
 
-void add_bending_forces(const BendingModel& model, const Vec3List& x, Vec3List& f) {
-  check_size(model, x.size(), "x");
-  check_size(model, f.size(), "f");
-  if (model.num_vertices == 0) return;
-  add_bending_forces(model, x, bending_origin(x), 0, model.num_vertices, VertexForces::of(f));
-}
-
 void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
                         int first, int end, VertexForces out) {
   add_bending_forces_simd(model, x, origin, first, end, out);

@@ -64,14 +64,12 @@ BendingModel build_bending(const TriList& triangles, const Vec2List& rest_uv, do
 // Bending energy at positions x (V), J.
 double bending_energy(const BendingModel& model, const Vec3List& x);
 
-// Adds the bending forces -dE/dx (N) to f (V).
-void add_bending_forces(const BendingModel& model, const Vec3List& x, Vec3List& f);
-
 // The mean of x (m): forces are computed from x - origin, so round-off stays proportional
 // to the sheet's size, not to its distance from the world origin.
 Vec3 bending_origin(const Vec3List& x);
 
-// The bending forces of vertices [first, end) only: f_i -= sum_j Q_ij (x_j - origin).
+// Adds the bending forces -dE/dx (N) of vertices [first, end) to out:
+// f_i -= sum_j Q_ij (x_j - origin), origin = bending_origin(x) for the whole mesh.
 // Each vertex reads its own row of Q, so vertex blocks can run on separate threads.
 // Vectorised (bending_simd.h); the same bits as the scalar loop below.
 void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,

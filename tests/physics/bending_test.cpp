@@ -203,7 +203,7 @@ Vec3List add_noise(Vec3List x, double amplitude, uint64_t seed) {
 
 Vec3List forces(const BendingModel& m, const Vec3List& x) {
   Vec3List f(x.size(), Vec3::Zero());
-  add_bending_forces(m, x, f);
+  add_bending_forces(m, x, bending_origin(x), 0, static_cast<int>(x.size()), VertexForces::of(f));
   return f;
 }
 
