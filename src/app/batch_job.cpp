@@ -15,7 +15,7 @@
 #include "core/cpu_clock.h"
 #include "core/error.h"
 #include "core/executable_dir.h"
-#include "video/partial_file.h"
+#include "core/partial_file.h"
 
 extern char** environ;
 

@@ -10,7 +10,7 @@
 #include "app/signals.h"
 #include "core/cpu_clock.h"
 #include "core/error.h"
-#include "video/partial_file.h"
+#include "core/partial_file.h"
 #include "video/progress_bar.h"
 
 namespace tissu {

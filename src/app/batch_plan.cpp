@@ -16,7 +16,7 @@
 #include "app/cli.h"
 #include "app/report.h"
 #include "core/error.h"
-#include "video/partial_file.h"
+#include "core/partial_file.h"
 
 namespace tissu {
 

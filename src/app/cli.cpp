@@ -7,7 +7,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
-#include "video/partial_file.h"
+#include "core/partial_file.h"
 
 namespace tissu {
 

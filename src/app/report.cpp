@@ -8,8 +8,8 @@
 #include "app/command_line.h"
 #include "app/version.h"
 #include "core/error.h"
+#include "core/partial_file.h"
 #include "physics/cloth_contact.h"
-#include "video/partial_file.h"
 
 namespace tissu {
 

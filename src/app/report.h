@@ -1,7 +1,7 @@
 // The run report (report.json): what ran, how it ended, time per stage, per-frame rows.
 #pragma once
 
-#include "video/partial_file.h"  // write_text_file, for the report
+#include "core/partial_file.h"  // write_text_file, for the report
 
 #include <string>
 

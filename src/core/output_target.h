@@ -1,5 +1,5 @@
 // Output files are written under a temporary name and renamed over their final path
-// (video/partial_file.h). That rename must never replace something that is not an output
+// (core/partial_file.h). That rename must never replace something that is not an output
 // file: as root, renaming onto /dev/full would put a regular file in place of the device.
 #pragma once
 

@@ -1,32 +1,19 @@
 #include "mesh/obj_writer.h"
 
-#include <cerrno>
 #include <charconv>
-#include <cstdio>
-#include <cstring>
 #include <stdexcept>
 
-#include "core/error.h"
-#include "core/output_target.h"
+#include "core/partial_file.h"
 
 namespace tissu {
 namespace {
 
-// Buffered writer of one temporary file; any failure removes it and throws.
-class TempFile {
+// OBJ text into a file written under its temporary name (core/partial_file.h).
+class ObjText {
  public:
-  TempFile(const std::string& path, const std::string& temp) : path_(path), temp_(temp) {
-    file_ = std::fopen(temp_.c_str(), "wb");
-    if (!file_) fail("cannot create " + temp_);
-  }
-  ~TempFile() {
-    if (file_) std::fclose(file_);
-    if (!committed_) std::remove(temp_.c_str());
-  }
+  explicit ObjText(const std::string& path) : file_(path) {}
 
-  void text(const char* s, size_t n) {
-    if (std::fwrite(s, 1, n, file_) != n) fail("write failed");
-  }
+  void text(const char* s, size_t n) { file_.write(s, n); }
   void number(double value) {
     char buffer[32];
     const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
@@ -37,37 +24,10 @@ class TempFile {
     const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
     text(buffer, result.ptr - buffer);
   }
-
-  // Flushes, closes and renames over the target.
-  void commit() {
-    if (std::fflush(file_) != 0) fail("write failed");
-    std::FILE* file = file_;
-    file_ = nullptr;
-    if (std::fclose(file) != 0) fail("close failed");
-    try {
-      check_output_target(path_);  // never rename over a device, pipe, directory or link
-    } catch (...) {
-      std::remove(temp_.c_str());
-      throw;
-    }
-    if (std::rename(temp_.c_str(), path_.c_str()) != 0) fail("cannot rename " + temp_ + " to it");
-    committed_ = true;
-  }
+  void commit() { file_.commit(); }
 
  private:
-  [[noreturn]] void fail(const std::string& what) {
-    const int error = errno;
-    if (file_) std::fclose(file_);
-    file_ = nullptr;
-    std::remove(temp_.c_str());
-    throw OutputError(path_ + ": " + what + ": " +
-                      (error != 0 ? std::strerror(error) : "unknown reason"));
-  }
-
-  const std::string& path_;
-  std::string temp_;
-  std::FILE* file_ = nullptr;
-  bool committed_ = false;
+  PartialFile file_;
 };
 
 }  // namespace
@@ -82,7 +42,7 @@ void write_obj(const std::string& path, const Vec3List& positions, const Vec2Lis
       throw std::invalid_argument("write_obj: vertex id out of range");
     }
   }
-  TempFile out(path, path + ".tmp");
+  ObjText out(path);
   static const char header[] = "# written by tissu: positions in m, vt = rest (u, v) in m\n";
   out.text(header, sizeof header - 1);
   for (const Vec3& p : positions) {

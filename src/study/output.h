@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "video/partial_file.h"  // write_text_file
+#include "core/partial_file.h"  // write_text_file
 
 namespace tissu {
 

@@ -18,8 +18,8 @@ extern "C" {
 #include <vector>
 
 #include "core/error.h"
+#include "core/partial_file.h"
 #include "video/av_error_text.h"
-#include "video/partial_file.h"
 #include "video/yuv420.h"
 
 namespace tissu {

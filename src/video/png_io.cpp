@@ -13,7 +13,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
-#include "video/partial_file.h"
+#include "core/partial_file.h"
 
 namespace tissu {
 namespace {

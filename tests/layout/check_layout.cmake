@@ -1,8 +1,8 @@
 # Checks the layout of src/ against the libraries CMake builds from it, for every
 # #include "..." of a header under src/:
 # - a header private to a library (tissu_headers(... PRIVATE ...)) is included only by
-#   the targets of that library's folder;
-# - a header of another library is included only by a target that links that library,
+#   the targets of that library's folder (a folder's targets are one module);
+# - a header of another module is included only by a target that links its library,
 #   directly or through others (the layering);
 # - every header under src/ is declared public or private by its library, and every
 #   source file under src/ is built by some target.
@@ -85,10 +85,10 @@ foreach(file ${files})
       continue()
     endif()
     string(MAKE_C_IDENTIFIER "${library}" lid)
-    if(visibility_${hid} STREQUAL "private")
-      if(NOT dir_${lid} STREQUAL dir_${uid})
-        problem("src/${file}: includes ${header}, private to ${library}")
-      endif()
+    if(dir_${lid} STREQUAL dir_${uid})
+      continue()  # targets of one folder are one module
+    elseif(visibility_${hid} STREQUAL "private")
+      problem("src/${file}: includes ${header}, private to ${library}")
     elseif(NOT library IN_LIST reach_${uid})
       problem("src/${file}: includes ${header} of ${library}, which ${user} does not link")
     endif()

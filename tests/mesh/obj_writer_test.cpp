@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/partial_file.h"
 #include "mesh/generate.h"
 #include "mesh/load.h"
 #include "mesh_test_util.h"
@@ -52,7 +53,7 @@ TEST(meshObjWriter, WritesVVtAndOneBasedFaces) {
             "v 0 0 0\nv 1.5 0 0\nv 0 0.1 2\n"
             "vt 0 0\nvt 1.5 0\nvt 0 0.25\n"
             "f 1/1 2/2 3/3\n");
-  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  EXPECT_FALSE(std::filesystem::exists(partial_path_for(path)));
 }
 
 TEST(meshObjWriter, WithoutRestUVWritesPlainFaces) {
@@ -70,8 +71,7 @@ TEST(meshObjWriter, MissingDirectoryThrowsAndLeavesNothing) {
     write_obj(path, {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {}, {Tri(0, 1, 2)});
     FAIL() << "no OutputError";
   } catch (const OutputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              path + ": cannot create " + path + ".tmp: No such file or directory");
+    EXPECT_EQ(std::string(e.what()), path + ": cannot write: No such file or directory");
   }
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
@@ -85,7 +85,7 @@ TEST(meshObjWriter, FailedRenameRemovesTheTemporaryFile) {
   std::ofstream(path + "/keep") << "x";
   EXPECT_THROW(write_obj(path, {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}, {}, {Tri(0, 1, 2)}),
                OutputError);
-  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  EXPECT_FALSE(std::filesystem::exists(partial_path_for(path)));
   EXPECT_TRUE(std::filesystem::exists(path + "/keep"));
 }
 

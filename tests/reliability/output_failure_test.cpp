@@ -60,7 +60,7 @@ TEST_F(OutputFailure, FullDiskWhileWritingAnObjSnapshot) {
                         Limits{1024});
   EXPECT_NE(o.exit_code, 0);
   EXPECT_EQ(o.lines(), 1) << o.err;
-  EXPECT_NE(o.err.find("tissu: out/obj/frame_000000.obj: write failed: File too large"),
+  EXPECT_NE(o.err.find("tissu: out/obj/frame_000000.obj: cannot write: File too large"),
             std::string::npos)
       << o.err;
   EXPECT_TRUE(files_under("out").empty()) << "left " << files_under("out").front();

@@ -1,4 +1,4 @@
-#include "video/partial_file.h"
+#include "core/partial_file.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
 #include "core/error.h"
 #include "core/output_target.h"
@@ -50,17 +51,41 @@ void sync_file_to_disk(const std::string& path, const std::string& final_path) {
   ::close(fd);
 }
 
+PartialFile::PartialFile(std::string final_path)
+    : final_path_(std::move(final_path)), partial_path_(partial_path_for(final_path_)) {
+  file_ = std::fopen(partial_path_.c_str(), "wb");
+  if (!file_) throw OutputError(final_path_ + ": cannot write: " + errno_text(errno));
+}
+
+PartialFile::~PartialFile() {
+  if (file_) std::fclose(file_);
+  if (!committed_) discard_partial_file(partial_path_);
+}
+
+void PartialFile::write(const char* data, std::size_t size) {
+  if (std::fwrite(data, 1, size, file_) != size) fail(errno);
+}
+
+void PartialFile::commit() {
+  if (std::fflush(file_) != 0) fail(errno);
+  std::FILE* file = file_;
+  file_ = nullptr;
+  if (std::fclose(file) != 0) fail(errno);
+  commit_partial_file(partial_path_, final_path_);
+  committed_ = true;
+}
+
+void PartialFile::fail(int error_number) {
+  if (file_) std::fclose(file_);
+  file_ = nullptr;
+  discard_partial_file(partial_path_);
+  throw OutputError(final_path_ + ": cannot write: " + errno_text(error_number));
+}
+
 void write_text_file(const std::string& path, const std::string& text) {
-  const std::string partial = partial_path_for(path);
-  FILE* file = std::fopen(partial.c_str(), "wb");
-  if (!file) throw OutputError(path + ": cannot write: " + errno_text(errno));
-  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
-  const int write_errno = errno;
-  if (std::fclose(file) != 0 || !written) {
-    discard_partial_file(partial);
-    throw OutputError(path + ": cannot write: " + errno_text(written ? errno : write_errno));
-  }
-  commit_partial_file(partial, path);
+  PartialFile file(path);
+  file.write(text.data(), text.size());
+  file.commit();
 }
 
 }  // namespace tissu
