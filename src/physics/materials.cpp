@@ -35,47 +35,51 @@ void set_bending(Material& m, double bending_length) {
   m.bending_warp = b * std::sqrt(kWarpWeftBendingRatio);  // warp, N*m
 }
 
-Material cotton() {
+// A preset from its areal density (kg/m^2), membrane stiffnesses (N/m) and bending length
+// (m, set_bending), with the numerical damping.
+Material preset(const char* name, double density, double weft, double warp, double coupling,
+                double shear, double bending_length) {
   Material m;
-  m.name = "cotton";
-  m.density = 0.1036;                       // kg/m^2: 103.6 g/m^2 [Clyde17] (unit read as g/m^2)
-  m.weft = 15.557e6 * kClydeThickness;      // N/m = 2800.3: C11 15.557 MPa x 0.18 mm [Clyde17]
-  m.warp = 25.004e6 * kClydeThickness;      // N/m = 4500.7: C22 25.004 MPa x 0.18 mm [Clyde17]
-  m.coupling = 7.779e6 * kClydeThickness;   // N/m = 1400.2: C12 7.779 MPa x 0.18 mm [Clyde17]
-  m.shear = 1.076e6 * kClydeThickness / 2;  // N/m = 96.84: C3 1.076 MPa x 0.18 mm / 2 [Clyde17]
-  set_bending(m, 0.0165);  // c = 1.65 cm: median of [Feng22] rows of 0.098-0.109 kg/m^2 [est]
-  m.damping = kDampingTime;                 // s [est]
+  m.name = name;
+  m.density = density;
+  m.weft = weft;
+  m.warp = warp;
+  m.coupling = coupling;
+  m.shear = shear;
+  set_bending(m, bending_length);
+  m.damping = kDampingTime;  // s [est]
   return m;
+}
+
+// 103.6 g/m^2 [Clyde17] (unit read as g/m^2). Membrane: C11 15.557, C22 25.004, C12 7.779,
+// C3 1.076 MPa times the thickness 0.18 mm (shear C3 t / 2) [Clyde17], that is weft 2800.3,
+// warp 4500.7, coupling 1400.2, shear 96.84 N/m. c = 1.65 cm: median of [Feng22] rows of
+// 0.098-0.109 kg/m^2 [est].
+Material cotton() {
+  const double t = kClydeThickness;
+  return preset("cotton", 0.1036, 15.557e6 * t, 25.004e6 * t, 7.779e6 * t, 1.076e6 * t / 2,
+                0.0165);
 }
 
 // No measured linen set was found: linen is a heavier cloth of the cotton construction, its
-// membrane the cotton one scaled by the areal-density ratio (more yarn per width) [est].
+// membrane the cotton one scaled by the areal-density ratio (more yarn per width) [est]:
+// weft 5000.5, warp 8037.0, coupling 2500.4, shear 172.93 N/m. Density: middle of the
+// 150-220 g/m^2 class linen falls in [est]. c = 2.26 cm: median of [Feng22] rows of
+// 0.176-0.194 kg/m^2 [est].
 Material linen() {
   constexpr double kScale = 0.185 / 0.1036;  // linen / cotton areal density
   const Material c = cotton();
-  Material m;
-  m.name = "linen";
-  m.density = 0.185;                // kg/m^2: middle of the 150-220 g/m^2 class linen falls in [est]
-  m.weft = c.weft * kScale;         // N/m = 5000.5: cotton x density ratio [est]
-  m.warp = c.warp * kScale;         // N/m = 8037.0: cotton x density ratio [est]
-  m.coupling = c.coupling * kScale; // N/m = 2500.4: cotton x density ratio [est]
-  m.shear = c.shear * kScale;       // N/m = 172.93: cotton x density ratio [est]
-  set_bending(m, 0.0226);  // c = 2.26 cm: median of [Feng22] rows of 0.176-0.194 kg/m^2 [est]
-  m.damping = kDampingTime;         // s [est]
-  return m;
+  return preset("linen", 0.185, c.weft * kScale, c.warp * kScale, c.coupling * kScale,
+                c.shear * kScale, 0.0226);
 }
 
+// 83 g/m^2 [Clyde17] (unit read as g/m^2). Membrane: C11 4.3, C22 9.942, C12 4.971, C3 0.57
+// MPa times the thickness 0.18 mm (shear C3 t / 2) [Clyde17], that is weft 774.0, warp
+// 1789.6, coupling 894.8, shear 51.3 N/m. c = 1.2 cm: lightest-drape end of [Feng22] rows
+// of its weight [est].
 Material silk() {
-  Material m;
-  m.name = "silk";
-  m.density = 0.083;                       // kg/m^2: 83 g/m^2 [Clyde17] (unit read as g/m^2)
-  m.weft = 4.3e6 * kClydeThickness;        // N/m = 774.0: C11 4.3 MPa x 0.18 mm [Clyde17]
-  m.warp = 9.942e6 * kClydeThickness;      // N/m = 1789.6: C22 9.942 MPa x 0.18 mm [Clyde17]
-  m.coupling = 4.971e6 * kClydeThickness;  // N/m = 894.8: C12 4.971 MPa x 0.18 mm [Clyde17]
-  m.shear = 0.57e6 * kClydeThickness / 2;  // N/m = 51.3: C3 0.57 MPa x 0.18 mm / 2 [Clyde17]
-  set_bending(m, 0.012);  // c = 1.2 cm: lightest-drape end of [Feng22] rows of its weight [est]
-  m.damping = kDampingTime;                // s [est]
-  return m;
+  const double t = kClydeThickness;
+  return preset("silk", 0.083, 4.3e6 * t, 9.942e6 * t, 4.971e6 * t, 0.57e6 * t / 2, 0.012);
 }
 
 }  // namespace
