@@ -33,4 +33,14 @@ FrameCheck check_frame(const Model& model, const State& state) {
   return check;
 }
 
+CheckSummary summarize_checks(const std::vector<FrameCheck>& checks) {
+  CheckSummary summary;
+  for (const FrameCheck& c : checks) {
+    if (c.clean()) continue;
+    ++summary.frames_with_crossings;
+    if (!summary.first) summary.first = &c;
+  }
+  return summary;
+}
+
 }  // namespace tissu

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "physics/model.h"
 
@@ -20,5 +21,12 @@ struct FrameCheck {
 };
 
 FrameCheck check_frame(const Model& model, const State& state);
+
+// What the checks of a run found: the frames with crossings, and the first of them.
+struct CheckSummary {
+  std::size_t frames_with_crossings = 0;
+  const FrameCheck* first = nullptr;  // into the checks; nullptr when every frame is clean
+};
+CheckSummary summarize_checks(const std::vector<FrameCheck>& checks);
 
 }  // namespace tissu

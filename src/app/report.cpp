@@ -93,15 +93,10 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
                          {"unresolved_impacts", result.totals.contact_unresolved}};
   }
   if (!result.checks.empty()) {
-    size_t dirty = 0;
-    const FrameCheck* first = nullptr;
-    for (const FrameCheck& c : result.checks) {
-      if (c.clean()) continue;
-      ++dirty;
-      if (!first) first = &c;
-    }
+    const CheckSummary summary = summarize_checks(result.checks);
+    const FrameCheck* first = summary.first;
     nlohmann::ordered_json check = {{"frames_checked", result.checks.size()},
-                                    {"frames_with_crossings", dirty}};
+                                    {"frames_with_crossings", summary.frames_with_crossings}};
     check["first"] = first ? nlohmann::ordered_json{{"step", first->step},
                                                     {"time", first->time},
                                                     {"cloth_pairs", first->cloth_pairs},

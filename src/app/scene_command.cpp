@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "app/divergence_hint.h"
 #include "app/earlier_outputs.h"
+#include "app/frame_check.h"
 #include "app/render_sink.h"
 #include "app/report.h"
 #include "app/run_loop.h"
@@ -48,14 +49,10 @@ void print_summary(const Scene& scene, const RunResult& result, long long max_fr
               << result.steps_done << " of " << scene.steps << " steps\n";
   }
   if (!result.checks.empty()) {
-    size_t dirty = 0;
-    const FrameCheck* first = nullptr;
-    for (const FrameCheck& c : result.checks) {
-      if (c.clean()) continue;
-      ++dirty;
-      if (!first) first = &c;
-    }
-    std::cerr << "tissu: " << scene.name << ": check: " << dirty << " of " << result.checks.size()
+    const CheckSummary summary = summarize_checks(result.checks);
+    const FrameCheck* first = summary.first;
+    std::cerr << "tissu: " << scene.name << ": check: " << summary.frames_with_crossings << " of "
+              << result.checks.size()
               << " frames have crossing triangles";
     if (first) std::cerr << "; first at step " << first->step << " (t = " << first->time << " s): " << first->first;
     std::cerr << "\n";
