@@ -77,6 +77,11 @@ class Bvh {
   static bool is_leaf(int ref) { return ref < 0; }
   static int leaf_first(int ref) { return (~ref) >> 3; }
   static int leaf_count(int ref) { return (~ref) & 7; }
+  // The nearest-query step at leaf `ref` (Bvh and WideBvh): a primitive of the leaf (ids in
+  // `order`) nearer to p than best_d2 becomes `best`, its squared distance best_d2.
+  template <class Distance2>
+  static void nearest_in_leaf(const std::vector<int>& order, int ref, const Vec3& p,
+                              Distance2& distance2, double& best_d2, int& best);
 
   int build_node(std::vector<int>& ids, const std::vector<Vec3>& centres,
                  const std::vector<Box3>& boxes, int begin, int end, Box3* box, int leaf_size);
@@ -230,6 +235,18 @@ void Bvh::cross_pairs(const Bvh& a, int ra, const FloatBox& box_a, const Bvh& b,
 }
 
 template <class Distance2>
+void Bvh::nearest_in_leaf(const std::vector<int>& order, int ref, const Vec3& p,
+                          Distance2& distance2, double& best_d2, int& best) {
+  for (int k = leaf_first(ref); k < leaf_first(ref) + leaf_count(ref); ++k) {
+    const double d2 = distance2(order[k], p);
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = order[k];
+    }
+  }
+}
+
+template <class Distance2>
 int Bvh::nearest(const Vec3& p, double max_distance2, Distance2&& distance2,
                  double* best_distance2) const {
   int best = -1;
@@ -246,13 +263,7 @@ int Bvh::nearest(const Vec3& p, double max_distance2, Distance2&& distance2,
       const Entry e = stack[--top];
       if (e.d2 >= best_d2) continue;
       if (is_leaf(e.ref)) {
-        for (int k = leaf_first(e.ref); k < leaf_first(e.ref) + leaf_count(e.ref); ++k) {
-          const double d2 = distance2(order_[k], p);
-          if (d2 < best_d2) {
-            best_d2 = d2;
-            best = order_[k];
-          }
-        }
+        nearest_in_leaf(order_, e.ref, p, distance2, best_d2, best);
         continue;
       }
       // Visit the nearer child first: push it last.

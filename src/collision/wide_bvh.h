@@ -66,14 +66,7 @@ int WideBvh::nearest(const Vec3& p, double max_distance2, Distance2&& distance2,
     const Entry e = stack[--top];
     if (e.d2 > limit_of(best_d2, slack)) continue;
     if (Bvh::is_leaf(e.ref)) {
-      const int first = Bvh::leaf_first(e.ref), end = first + Bvh::leaf_count(e.ref);
-      for (int k = first; k < end; ++k) {
-        const double d2 = distance2(order_[k], p);
-        if (d2 < best_d2) {
-          best_d2 = d2;
-          best = order_[k];
-        }
-      }
+      Bvh::nearest_in_leaf(order_, e.ref, p, distance2, best_d2, best);
       continue;
     }
     const Node& node = nodes_[e.ref];
