@@ -12,6 +12,8 @@
 #include "physics/implicit.h"
 #include "physics/parallel.h"
 #include "physics/step_scratch.h"
+#include "physics/vertex_pass.h"
+#include "physics/vertex_pass_simd.h"
 
 namespace tissu {
 
@@ -20,37 +22,6 @@ namespace {
 bool is_explicit(Integrator integrator) {
   return integrator == Integrator::ExplicitEuler || integrator == Integrator::SymplecticEuler ||
          integrator == Integrator::BenameurDjedi;
-}
-
-// Eq. 9 (explicit Euler), eq. 10 (modified / symplectic Euler) and the paper's
-// "calcul_vitesse_position" as printed (V += h F / (2 m), P += h V), for vertices
-// [first, end).
-void integrate_vertices(const Model& model, int first, int end, const Vec3List& f, Vec3List& x,
-                        Vec3List& v) {
-  const double h = model.dt;
-  const double* inv_mass = model.inv_mass.data();
-  switch (model.integrator) {
-    case Integrator::ExplicitEuler:
-      for (int i = first; i < end; ++i) {
-        x[i] += h * v[i];
-        v[i] += (h * inv_mass[i]) * f[i];
-      }
-      break;
-    case Integrator::SymplecticEuler:
-      for (int i = first; i < end; ++i) {
-        v[i] += (h * inv_mass[i]) * f[i];
-        x[i] += h * v[i];
-      }
-      break;
-    case Integrator::BenameurDjedi:
-      for (int i = first; i < end; ++i) {
-        v[i] += (h * inv_mass[i] / 2.0) * f[i];
-        x[i] += h * v[i];
-      }
-      break;
-    default:
-      break;
-  }
 }
 
 // Section 3, as printed: halve the displacement of a vertex up to n_it times while it is
@@ -127,21 +98,6 @@ void collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionRespo
 void place_obstacles(const Model& model, double t, std::vector<PlacedObstacle>& placed) {
   placed.clear();
   for (const Obstacle& ob : model.obstacles) placed.push_back(place_obstacle(ob, t));
-}
-
-void check_vertex(int i, const Vec3& x, const Vec3& v, BlockCheck& check) {
-  if (check.first_bad >= 0) return;
-  const bool finite = x.allFinite();
-  if (!finite || !v.allFinite()) {
-    check.first_bad = i;
-    check.bad_position = !finite;
-    return;
-  }
-  const double s2 = v.squaredNorm();
-  if (s2 > check.top_speed2) {
-    check.top_speed2 = s2;
-    check.fastest = i;
-  }
 }
 
 // The blocks' findings in vertex order: the first non-finite vertex, else the first of
@@ -225,9 +181,16 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   }
 
   // Per vertex block: finish the forces and integrate (explicit), correct, collide, check.
+  // Without position correction an explicit step finishes the forces, integrates and (with
+  // no obstacle to move vertices afterwards) checks in one vectorised pass.
+  const bool fused = explicit_step && !model.position_correction;
+  const bool fused_check = fused && scratch.placed.empty();
   parallel_for(threads, forces.num_blocks(), [&](int block) {
     const int first = forces.block_begin(block), end = forces.block_end(block);
-    if (explicit_step) {
+    if (fused) {
+      finish_block_simd(model, forces, block, scratch.f, state.x, state.v,
+                        fused_check ? &scratch.checks[block] : nullptr);
+    } else if (explicit_step) {
       forces_stage2(model, state.v, block, forces, scratch.f);
       if (model.position_correction) {
         std::copy(state.x.begin() + first, state.x.begin() + end, scratch.x_old.begin() + first);
@@ -246,6 +209,7 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
         if (!model.pinned[i]) collide_vertex(scratch.placed, response, state.x[i], state.v[i]);
       }
     }
+    if (fused_check) return;
     for (int i = first; i < end; ++i) {
       check_vertex(i, state.x[i], state.v[i], scratch.checks[block]);
     }

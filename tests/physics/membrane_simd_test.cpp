@@ -33,20 +33,8 @@ struct Case {
   Vec3List x, v;
 };
 
-// Deforms the rest positions: stretch, shear, a fold out of plane and per-vertex noise
-// (m), and gives every vertex a random velocity (m/s), so every strain and strain-rate
-// component is non-zero.
-void deform(Case& c, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  c.x.clear();
-  c.v.clear();
-  for (const Vec2& p : c.model.rest_uv) {
-    c.x.emplace_back(1.03 * p.x() + 0.02 * p.y() + 1e-4 * u(rng), 0.98 * p.y() + 1e-4 * u(rng),
-                     0.05 * std::sin(6.0 * p.x()) + 1e-4 * u(rng));
-    c.v.emplace_back(0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng));
-  }
-}
+// Deforms the rest positions and gives every vertex a velocity (test_meshes.h).
+void deform(Case& c, unsigned seed) { testing::deformed_moving(c.model.rest_uv, seed, c.x, c.v); }
 
 Case from_mesh(const std::string& name, const TriMesh& mesh, unsigned seed) {
   Case c;

@@ -1,6 +1,7 @@
 // Small meshes built inside the physics tests (no dependency on the mesh generator).
 #pragma once
 
+#include <cmath>
 #include <random>
 
 #include "physics/materials.h"
@@ -78,6 +79,21 @@ inline Sheet cotton_sheet(double size, int nx, Integrator integrator, double dt,
   s.state.x = x;
   s.state.v.assign(x.size(), Vec3::Zero());
   return s;
+}
+
+// Positions (m) of a stretched, sheared sheet folded out of plane with per-vertex noise, and
+// random velocities (m/s, up to 0.3 per coordinate), from rest coordinates (m): every strain
+// and strain-rate component is non-zero.
+inline void deformed_moving(const Vec2List& rest_uv, unsigned seed, Vec3List& x, Vec3List& v) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  x.clear();
+  v.clear();
+  for (const Vec2& p : rest_uv) {
+    x.emplace_back(1.03 * p.x() + 0.02 * p.y() + 1e-4 * u(rng), 0.98 * p.y() + 1e-4 * u(rng),
+                   0.05 * std::sin(6.0 * p.x()) + 1e-4 * u(rng));
+    v.emplace_back(0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng));
+  }
 }
 
 }  // namespace tissu::testing
