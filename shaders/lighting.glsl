@@ -35,6 +35,8 @@ float highlight_power(float x, float shininess) {
 
 // Blinn-Phong shading of a point with unit normal n (facing the viewer's side).
 // key_visibility scales light 0, the key light (0 where it is shadowed).
+// Renderer::Impl::lit_ground_color() (renderer.cpp) repeats it for the lit ground: keep
+// the two the same.
 vec3 shade(vec3 albedo, vec3 n, vec3 position, float shininess, float specular,
            float key_visibility) {
   // Soft sky light from above and a darker bounce from below, so unlit sides keep their form.

@@ -139,7 +139,8 @@ struct Renderer::Impl {
   void draw_background(bool ground_drawn);
   void set_plane_uniforms(const ShaderProgram& program, const glm::mat4& model, const Vec3& color);
   void draw_plane(const ObstacleShape& shape, const Vec3& color);
-  void draw_ground(const ObstacleShape* merged_plane, bool depth_needed_later);
+  void draw_ground(const ObstacleShape* merged_plane, bool depth_needed_later, bool opaque_cleared);
+  glm::vec3 lit_ground_color() const;
   void draw_solids(const FrameContent& content);
   void draw_cloth();
   const ObstacleShape* plane_merged_into_ground(const FrameContent& content) const;
@@ -227,11 +228,26 @@ void Renderer::Impl::draw(const FrameContent& content) {
     draw_shadow_map(content, bounds);
     timer.lap("shadow map");
   }
+  const ObstacleShape* merged = plane_merged_into_ground(content);
+  bool planes_later = false;  // plane obstacles drawn after the ground, depth-tested against it
+  for (const ObstacleShape& o : content.obstacles) {
+    if (o.kind == ObstacleShape::Kind::Plane && &o != merged) planes_later = true;
+  }
+  // The ground's opaque unshadowed cells are one flat colour (seen from above): a clear to
+  // it fills them for a fraction of the cost of shading them, so they are not drawn. When
+  // plane obstacles follow, those cells must write depth, and are drawn as before.
+  const bool ground_cleared =
+      settings.ground && camera->eye.z() > settings.ground->height && !planes_later;
   context.bind_draw_target();
-  // Every sample gets a colour below (the background fills what nothing covers), so only
-  // depth needs clearing.
+  // Every other sample gets a colour below (the background fills what nothing covers).
   glClearDepth(1.0);
-  glClear(GL_DEPTH_BUFFER_BIT);
+  if (ground_cleared) {
+    const glm::vec3 c = lit_ground_color();
+    glClearColor(c.r, c.g, c.b, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  } else {
+    glClear(GL_DEPTH_BUFFER_BIT);
+  }
   timer.lap("clear");
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -241,12 +257,7 @@ void Renderer::Impl::draw(const FrameContent& content) {
   timer.lap("cloth");
   draw_solids(content);
   timer.lap("spheres and cylinders");
-  const ObstacleShape* merged = plane_merged_into_ground(content);
-  bool planes_later = false;  // plane obstacles drawn after the ground, depth-tested against it
-  for (const ObstacleShape& o : content.obstacles) {
-    if (o.kind == ObstacleShape::Kind::Plane && &o != merged) planes_later = true;
-  }
-  if (settings.ground) draw_ground(merged, planes_later);
+  if (settings.ground) draw_ground(merged, planes_later, ground_cleared);
   timer.lap("ground");
   draw_background(settings.ground.has_value());
   timer.lap("background");
@@ -386,7 +397,21 @@ const ObstacleShape* Renderer::Impl::plane_merged_into_ground(const FrameContent
   return nullptr;
 }
 
-void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_needed_later) {
+// The display colour of the ground's front in full light: obstacle.vert's v_front_lit for
+// the normal +z (lighting.glsl's shade() without highlight) through to_display(), in the
+// same single-precision steps, so that a clear to it writes the bytes the shader writes.
+glm::vec3 Renderer::Impl::lit_ground_color() const {
+  const glm::vec3 albedo = linear(settings.ground->color);
+  glm::vec3 color = albedo * glm::vec3(0.075f, 0.080f, 0.090f);  // the sky ambient at n.z = 1
+  for (const Light& light : settings.lights) {
+    const float diffuse = std::max(-glm::normalize(to_glm(light.direction)).z, 0.0f);
+    color += linear(light.color) * static_cast<float>(light.intensity) * (albedo * diffuse);
+  }
+  return glm::sqrt(glm::clamp(color, 0.0f, 1.0f));
+}
+
+void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_needed_later,
+                                 bool opaque_cleared) {
   // The ground's square, centred below the camera target (as obstacle_model places planes).
   const double h = settings.ground->height;
   const double half = plane_half_size();
@@ -439,7 +464,7 @@ void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_n
   // later (nothing else after this tests against it): writing depth costs on every sample.
   draw_part(*ground, ground_fading, split.fading, false);
   if (!depth_needed_later) glDepthMask(GL_FALSE);
-  draw_part(*ground_opaque, ground_opaque_mesh, split.opaque, false);
+  if (!opaque_cleared) draw_part(*ground_opaque, ground_opaque_mesh, split.opaque, false);
   if (footprint) {
     draw_part(*ground_shadowed_opaque, ground_shadowed_opaque_mesh, split.shadowed_opaque, true);
     glDepthMask(GL_TRUE);
