@@ -136,6 +136,7 @@ struct Renderer::Impl {
   void upload_cloth(const FrameContent& content);
   void draw_cloth_geometry() const;
   void draw_shadow_map(const FrameContent& content, const Box3& casters);
+  void gather_caster_points(const FrameContent& content);
   void draw_background(bool ground_drawn);
   void set_plane_uniforms(const ShaderProgram& program, const glm::mat4& model, const Vec3& color);
   void draw_plane(const ObstacleShape& shape, const Vec3& color);
@@ -172,6 +173,7 @@ struct Renderer::Impl {
   MeshBuffer ground_fading, ground_opaque_mesh;  // parts of the ground (see SplitGround)
   MeshBuffer ground_shadowed_fading, ground_shadowed_opaque_mesh;
   Box3 casters;  // bounds of what casts the ground shadow this frame
+  std::vector<Vec3> caster_points;  // their convex hull holds every caster this frame
   std::vector<glm::vec4> ground_outline;  // clip space, this frame
   ClothBuffer cloth_mesh;
   // Mesh obstacles' surfaces, uploaded once (the key keeps the surface alive).
@@ -222,6 +224,7 @@ void Renderer::Impl::draw(const FrameContent& content) {
 
   upload_cloth(content);
   casters = bounds;
+  gather_caster_points(content);
 
   shadows_drawn = false;
   if (shadow_map && !settings.lights.empty() && !bounds.isEmpty()) {
@@ -333,6 +336,21 @@ void Renderer::Impl::draw_shadow_map(const FrameContent& content, const Box3& ca
   shadows_drawn = true;
 }
 
+// The cloth's vertices and the corners of each finite obstacle's box: the ground's shadow
+// falls within the shadow of their convex hull, often much less ground than the shadow of
+// all the casters' common box.
+void Renderer::Impl::gather_caster_points(const FrameContent& content) {
+  caster_points.clear();
+  for (const Vec3& p : content.positions) {
+    if (p.allFinite()) caster_points.push_back(p);
+  }
+  for (const ObstacleShape& o : content.obstacles) {
+    const Box3 box = shown_bounds({}, {o});
+    if (box.isEmpty()) continue;
+    for (const Vec3& corner : box_corners(box)) caster_points.push_back(corner);
+  }
+}
+
 void Renderer::Impl::draw_background(bool ground_drawn) {
   // Where the ground is drawn it already shows the background at its fading edge: cover
   // only the rest (overlapping the ground's outline by 2 pixels; the depth test sorts it out).
@@ -429,7 +447,7 @@ void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_n
   if (shadows_drawn && ground_shadowed) {
     const double texel = 2.04 * 0.5 * casters.diagonal().norm() / shadow_map->size();
     const double slant = std::max(0.05, std::abs(settings.lights[0].direction.normalized().z()));
-    footprint = shadow_footprint(casters, settings.lights[0].direction, h, 3.0 * texel / slant);
+    footprint = shadow_footprint(caster_points, settings.lights[0].direction, h, 3.0 * texel / slant);
   }
   // Slightly inside the fade's start, so that rounding cannot put a faded pixel in an opaque cell.
   const SplitGround split = split_ground(square, h, footprint, centre,

@@ -136,6 +136,49 @@ TEST(render_geometry, GroundSplitsIntoShadowedAndOpaqueCellsCoveringTheSquare) {
   EXPECT_GT(shadowed_opaque + opaque, 0.6 * M_PI * radius * radius);
 }
 
+TEST(render_geometry, ShadowFootprintOfPointsHoldsTheirShadowWithinTheBoxes) {
+  // A sheet 0.75 m above the ground at z = -0.3 and a sphere of radius 0.25 m under it; the
+  // light comes down at an angle, as the default key light does.
+  const Vec3 light(0.5, 1.5, -1.75);
+  const std::vector<Vec3> sheet = {Vec3(-0.5, -0.5, 0.45), Vec3(0.5, -0.5, 0.45),
+                                   Vec3(0.5, 0.5, 0.45), Vec3(-0.5, 0.5, 0.45)};
+  Box3 sphere(Vec3::Constant(-0.25), Vec3::Constant(0.25));
+  std::vector<Vec3> points = sheet;
+  for (const Vec3& c : box_corners(sphere)) points.push_back(c);
+  Box3 all = sphere;
+  for (const Vec3& p : sheet) all.extend(p);
+  const double h = -0.3, margin = 0.01;
+  const std::optional<GroundRect> tight = shadow_footprint(points, light, h, margin);
+  const std::optional<GroundRect> loose = shadow_footprint(all, light, h, margin);
+  ASSERT_TRUE(tight && loose);
+  // Every point of the sheet and the sphere throws its shadow inside the tight rectangle.
+  const Vec3 d = light.normalized();
+  auto shadow_inside = [&](const Vec3& p) {
+    const Vec3 q = p + d * ((h - p.z()) / d.z());
+    return q.x() >= tight->min.x + margin && q.x() <= tight->max.x - margin &&
+           q.y() >= tight->min.y + margin && q.y() <= tight->max.y - margin;
+  };
+  for (double u = 0.0; u <= 1.0; u += 0.125) {
+    for (double v = 0.0; v <= 1.0; v += 0.125) {
+      EXPECT_TRUE(shadow_inside(Vec3(-0.5 + u, -0.5 + v, 0.45)));
+      const double polar = M_PI * u, azimuth = 2.0 * M_PI * v;
+      EXPECT_TRUE(shadow_inside(0.25 * Vec3(std::sin(polar) * std::cos(azimuth),
+                                            std::sin(polar) * std::sin(azimuth), std::cos(polar))));
+    }
+  }
+  // The common box's footprint holds the tight one and is larger: the box's upper corners
+  // above the sphere and its lower corners under the sheet hold no caster.
+  EXPECT_LE(loose->min.x, tight->min.x);
+  EXPECT_LE(loose->min.y, tight->min.y);
+  EXPECT_GE(loose->max.x, tight->max.x);
+  EXPECT_GE(loose->max.y, tight->max.y);
+  auto area = [](const GroundRect& r) { return (r.max.x - r.min.x) * (r.max.y - r.min.y); };
+  EXPECT_LT(area(*tight), 0.8 * area(*loose));
+  // No points, or light from below: nothing to shadow.
+  EXPECT_FALSE(shadow_footprint(std::vector<Vec3>{}, light, h, margin));
+  EXPECT_FALSE(shadow_footprint(points, Vec3(0, 0, 1), h, margin));
+}
+
 TEST(render_geometry, GroundWithoutFootprintOrDiscIsAllFading) {
   const GroundRect square{glm::dvec2(-1.0, -1.0), glm::dvec2(1.0, 1.0)};
   const SplitGround split = split_ground(square, -0.3, std::nullopt, glm::dvec2(0.0), 0.0, 4);

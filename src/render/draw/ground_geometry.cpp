@@ -30,10 +30,16 @@ std::vector<P> clip(const std::vector<P>& polygon, Side side) {
 std::optional<GroundRect> shadow_footprint(const Box3& casters, const Vec3& direction,
                                            double height, double margin) {
   if (casters.isEmpty()) return std::nullopt;
+  return shadow_footprint(box_corners(casters), direction, height, margin);
+}
+
+std::optional<GroundRect> shadow_footprint(const std::vector<Vec3>& points, const Vec3& direction,
+                                           double height, double margin) {
+  if (points.empty()) return std::nullopt;
   const Vec3 d = direction.normalized();
   if (!(d.z() < -1e-6)) return std::nullopt;
   GroundRect r{glm::dvec2(1e300), glm::dvec2(-1e300)};
-  for (const Vec3& c : box_corners(casters)) {
+  for (const Vec3& c : points) {
     // Along the light to the plane (corners below the plane project back up: still a bound).
     const Vec3 p = c + d * ((height - c.z()) / d.z());
     r.min = glm::min(r.min, glm::dvec2(p.x(), p.y()));

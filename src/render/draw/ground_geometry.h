@@ -25,6 +25,10 @@ struct GroundRect {
 // does not come from above the plane.
 std::optional<GroundRect> shadow_footprint(const Box3& casters, const Vec3& direction,
                                            double height, double margin);
+// The same for casters inside the convex hull of `points` (tighter than their box when
+// the casters do not fill it: a cloth's vertices, an obstacle's box corners).
+std::optional<GroundRect> shadow_footprint(const std::vector<Vec3>& points, const Vec3& direction,
+                                           double height, double margin);
 
 // The square `square` (the ground, world coordinates, normal +z) cut into cells by a
 // regular grid of `divisions` x `divisions` cells plus the lines of `footprint` (clamped
