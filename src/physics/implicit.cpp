@@ -157,7 +157,7 @@ double residual_norm(const Model& model, ImplicitSolver& s, const StepEquation& 
 // A contact pulling with more than this fraction of its vertex's weight impulse is
 // released (a weaker pull is kept, so that contacts balanced at J_n = 0 do not flip
 // between released and caught from one step to the next).
-constexpr double kReleasePull = 1.0;
+constexpr double kReleasePull = 0.01;
 
 // The pull that releases each vertex's contact, kg*m/s (per vertex).
 const std::vector<double>& release_impulses(const Model& model, const StepEquation& eq,

@@ -157,6 +157,24 @@ TEST(Contact, SheetRestingOnAPlaneNeitherCreepsNorBounces) {
   EXPECT_EQ(last_implicit_report(ws)->contacts, s.model.num_vertices());
 }
 
+// Contact pushes and does not hold: a sheet resting on a plane when gravity turns to pull
+// it away at half its strength (a net pull of half its weight) leaves the plane and rises
+// at g / 2, as it would without the plane.
+TEST(Contact, SheetPulledOffAPlaneLeavesItFreely) {
+  Sheet s = cotton_sheet(0.4, 8, Integrator::BackwardEuler, 1.0 / 60.0);
+  s.model.obstacles.push_back(plane(Vec3::Zero(), Vec3::UnitZ(), 0.5, 0.0));
+  for (Vec3& p : s.state.x) p.z() = 0.0;
+  Workspace ws;
+  for (int k = 0; k < 10; ++k) ASSERT_FALSE(step(s.model, s.state, ws)) << "resting step " << k;
+  s.model.gravity = Vec3(0.0, 0.0, 0.5 * kG);
+  const int steps = 6;
+  for (int k = 0; k < steps; ++k) ASSERT_FALSE(step(s.model, s.state, ws)) << "pulled step " << k;
+  // Backward Euler from rest under a constant acceleration a: v_k = k h a. A contact is
+  // released after the step in which it pulls, so the sheet leaves one step late.
+  const double expected = (steps - 1) * s.model.dt * 0.5 * kG;  // m/s
+  for (const Vec3& v : s.state.v) EXPECT_NEAR(v.z(), expected, 1e-2 * expected);  // Newton to 1e-2
+}
+
 // A sheet on a plane tilted by a, its whole underside in contact.
 struct Incline {
   Sheet sheet;
