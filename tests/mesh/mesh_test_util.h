@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <string>
 
+#include "common/input_error_of.h"
 #include "core/error.h"
 
 namespace tissu::test {
@@ -47,15 +47,5 @@ inline constexpr char kSquarePly[] =
     "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
     "0 0 0.5 0 0\n1 0 0 2 0\n1 1 0 2 2\n0 1 0 0 2\n"
     "3 0 1 2\n3 0 2 3\n";
-
-// The message of the InputError `f` throws, or "" when it throws none.
-inline std::string input_error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 }  // namespace tissu::test

@@ -2,19 +2,12 @@
 
 #include <gtest/gtest.h>
 
-#include <functional>
+#include "common/input_error_of.h"
 
 namespace tissu {
 namespace {
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::input_error_of;
 
 RenderSettings parse(const std::string& text) {
   const Json doc = Json::parse(text);
@@ -23,7 +16,7 @@ RenderSettings parse(const std::string& text) {
 }
 
 std::string parse_error(const std::string& text) {
-  return error_of([&] { parse(text); });
+  return input_error_of([&] { parse(text); });
 }
 
 TEST(render_settings, DefaultsWhenEmpty) {
