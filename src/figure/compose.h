@@ -16,7 +16,7 @@ namespace tissu {
 class TextPainter {
  public:
   // `pixel_height`: ascender-to-descender height. The font is the renderer's overlay font
-  // (default_font_file()). Throws RenderError when it cannot be read.
+  // (default_font_file()). Throws OutputError naming the file when it cannot be read.
   explicit TextPainter(float pixel_height);
 
   float width(const std::string& text) const;
