@@ -602,6 +602,29 @@ void take_velocities(const Model& model, const ImplicitSolver& s, State& state) 
   }
 }
 
+// Contact is inelastic: a vertex whose contact held at the end of the step (it pushed, or
+// pulled less than its release impulse) moves with the surface along the normal. Backward
+// Euler's constraint gives that by itself from the step after landing on; BDF-2's base
+// still holds the fall (4/3 x_n - 1/3 x_{n-1} lies beyond the plane at a landing, so its
+// constraint throws the vertex back at about half its impact speed), and the midpoint
+// rule's 2 w - v_n reflects it. So the relative normal velocity of a held contact is set
+// to 0; with `history` (BDF-2) the normal part of x_n, v_n, the next step's history, is
+// set to that of a vertex that moved at v_{n+1} over the step, so that the next step's
+// base lies on the plane too.
+void stop_held_contacts(const ImplicitSolver& s, State& state, Vec3List* history_x,
+                        Vec3List* history_v, double h) {
+  for (const VertexContact& c : s.contacts.contacts()) {
+    if (c.pull > s.release[c.vertex]) continue;
+    const int i = c.vertex;
+    Vec3& v = state.v[i];
+    v -= c.normal.dot(v - c.surface_velocity) * c.normal;
+    if (!history_x) continue;
+    const Vec3 x_before = state.x[i] - h * v;
+    (*history_x)[i] += c.normal.dot(x_before - (*history_x)[i]) * c.normal;
+    (*history_v)[i] += c.normal.dot(v - (*history_v)[i]) * c.normal;
+  }
+}
+
 // Backward Euler in velocity form: x_base = x_n, v_base = v_n, beta = h.
 void backward_euler_stage(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
                           double h, double t) {
@@ -646,6 +669,7 @@ void bdf2_step(const Model& model, State& state, Workspace& ws, double h, double
     newton_solve(model, state, ws, s, StepEquation{h, t, beta, t + h, beta, t + h, 1.0});
     take_velocities(model, s, state);
   }
+  stop_held_contacts(s, state, &s.x_saved, &s.v_saved, h);
   end_step(state, s, h, t);
 }
 
@@ -673,6 +697,7 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
     const double approach = c.normal.dot(v - c.surface_velocity);
     if (approach < 0.0) v -= approach * c.normal;
   }
+  stop_held_contacts(s, state, nullptr, nullptr, h);
   end_step(state, s, h, t);
 }
 
