@@ -24,8 +24,9 @@ namespace tissu {
 
 namespace {
 
-// 1024 texels across the casters' bounding sphere; one bilinear depth comparison per
-// ground pixel (512 texels showed speckles along the cloth's shadow edge).
+// 1024 texels across the casters' bounding sphere (the map keeps only those the casters
+// cover); one bilinear depth comparison per ground pixel (512 texels showed speckles along
+// the cloth's shadow edge).
 constexpr int kShadowMapSize = 1024;
 const Vec3 kObstacleColor(0.60, 0.64, 0.70);
 const Vec3 kPlaneColor(0.70, 0.70, 0.66);
@@ -313,7 +314,7 @@ void Renderer::Impl::set_lights(const ShaderProgram& program) const {
 }
 
 void Renderer::Impl::draw_shadow_map(const FrameContent& content, const Box3& casters) {
-  shadow_map->begin(settings.lights[0].direction, casters);
+  shadow_map->begin(settings.lights[0].direction, casters, caster_points);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   // Push casters slightly away from the light so cloth lying on the ground does not shadow it.
@@ -445,7 +446,7 @@ void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_n
   // The shadow look-up runs only where the key light's shadow can fall.
   std::optional<GroundRect> footprint;
   if (shadows_drawn && ground_shadowed) {
-    const double texel = 2.04 * 0.5 * casters.diagonal().norm() / shadow_map->size();
+    const double texel = shadow_map->texel_size();
     const double slant = std::max(0.05, std::abs(settings.lights[0].direction.normalized().z()));
     footprint = shadow_footprint(caster_points, settings.lights[0].direction, h, 3.0 * texel / slant);
   }
