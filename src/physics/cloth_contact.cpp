@@ -185,6 +185,11 @@ struct ClothContact::Impl {
   Vec3List built_at;                       // (V) positions when the lists were built
   Vec3 frame_start = Vec3::Zero();         // the frame's offset at this step's start, m
   Vec3 frame_end = Vec3::Zero();           // and at its end
+  // The last step's start time and length (s), and the frame's offset at its start (m):
+  // the implicit integrators run the stage again on the same step after solving it again
+  // from the same start (implicit.cpp, substep), where the frame has that offset again.
+  double last_t0 = NAN, last_dt = NAN;
+  Vec3 last_frame_start = Vec3::Zero();
   std::vector<double> moved, moved_world;  // (V) largest distance from built_at this step, m
   bool built = false;
   // When to look at a pair again (cloth pairs only, no mesh obstacle): a pair found apart
@@ -1034,6 +1039,9 @@ void ClothContact::Impl::move_rigidly(const std::vector<int>& zone, int mesh_ind
 
 ContactStats ClothContact::Impl::resolve(double t0) {
   ContactStats stats;
+  // The same step again (cloth pairs only): its start is where the frame had the offset of
+  // the last call, and the lists built then still hold while the new end stays in them.
+  if (t0 == last_t0 && dt == last_dt && meshes.empty()) frame_start = last_frame_start;
   place_meshes(t0, t0 + dt);
   if (!lists_valid()) {
     rebuild();
@@ -1058,6 +1066,9 @@ ContactStats ClothContact::Impl::resolve(double t0) {
     measure_start();
     collide(stats);
   }
+  last_t0 = t0;
+  last_dt = dt;
+  last_frame_start = frame_start;
   frame_start = frame_end;
   return stats;
 }
