@@ -5,7 +5,9 @@
 // (self-collision thickness 3 mm, friction 0.3). Timed over the whole fall and over its
 // last fifth (the sheet lying in folds, most of it in contact with itself), with
 // symplectic Euler at a stable explicit step and with backward Euler at 1/60 s.
-//   ./build/bench/tissu_contact_bench [--quick]
+// Also counts what does not depend on the machine's load: stage calls, list builds and
+// the pair distances measured for them, per step.
+//   ./build/bench/tissu_contact_bench [--quick] [--only explicit|implicit]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -66,6 +68,8 @@ struct Cost {
   double stage = 0, step = 0;            // ns per triangle per step, whole run
   double stage_late = 0, step_late = 0;  // the same over the last fifth
   double candidates = 0, rebuilds = 0, impacts = 0;  // per step, last fifth
+  double calls = 0, builds = 0, distances = 0;       // per step, whole run
+  double builds_late = 0, distances_late = 0;        // per step, last fifth
   bool crossed = false;
 };
 
@@ -83,11 +87,16 @@ Cost run(Setup s, Integrator integrator, double dt, double seconds) {
     const double spent = cpu_seconds() - t0;
     stage += ws.contact_seconds;
     total += spent;
+    c.calls += ws.contact.calls;
+    c.builds += ws.contact.builds;
+    c.distances += static_cast<double>(ws.contact.build_distances);
     if (k >= late) {
       stage_late += ws.contact_seconds;
       total_late += spent;
       c.candidates += ws.contact.candidates;
       c.rebuilds += ws.contact.rebuilt;
+      c.builds_late += ws.contact.builds;
+      c.distances_late += static_cast<double>(ws.contact.build_distances);
       c.impacts += ws.contact.impacts;
     }
   }
@@ -99,6 +108,11 @@ Cost run(Setup s, Integrator integrator, double dt, double seconds) {
   c.candidates /= steps - late;
   c.rebuilds /= steps - late;
   c.impacts /= steps - late;
+  c.calls /= steps;
+  c.builds /= steps;
+  c.distances /= steps;
+  c.builds_late /= steps - late;
+  c.distances_late /= steps - late;
   return c;
 }
 
@@ -121,23 +135,33 @@ double membrane_ns(const Setup& s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  bool quick = false;
+  const char* only = nullptr;  // "explicit" or "implicit": that row alone
+  for (int a = 1; a < argc; ++a) {
+    if (std::strcmp(argv[a], "--quick") == 0) quick = true;
+    if (std::strcmp(argv[a], "--only") == 0 && a + 1 < argc) only = argv[++a];
+  }
   std::printf("| triangles | integrator, dt | simulated s | membrane ns/tri/step | stage ns/tri/step "
               "(whole fall / last fifth) | stage / membrane (whole / last fifth) | whole step "
-              "ns/tri (whole / last fifth) | pairs watched | list rebuilds per step | impacts "
-              "per step |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+              "ns/tri (whole / last fifth) | pairs watched | steps with a list build | impacts "
+              "per step | stage calls per step | list builds per step (whole / last fifth) | "
+              "pair distances at builds per step (whole / last fifth) |\n"
+              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   for (int requested : {5000, 50000}) {
     if (std::getenv("TISSU_BENCH_SMALL") && requested > 10000) continue;
     const bool big = requested > 10000;
     const Setup s = upright_sheet(requested);
     const double membrane = membrane_ns(s);
     auto row = [&](const char* name, Integrator integrator, double dt, double seconds) {
+      const bool explicit_row = integrator == Integrator::SymplecticEuler;
+      if (only && std::strcmp(only, explicit_row ? "explicit" : "implicit") != 0) return;
       const Cost c = run(s, integrator, dt, seconds);
       std::printf("| %d | %s %.3g s | %.2f | %.1f | %.1f / %.1f | %.2f / %.2f | %.1f / %.1f | %.0f | "
-                  "%.3f | %.2f |\n",
+                  "%.3f | %.2f | %.2f | %.3f / %.3f | %.0f / %.0f |\n",
                   s.model.num_triangles(), name, dt, seconds, membrane, c.stage, c.stage_late,
                   c.stage / membrane, c.stage_late / membrane, c.step, c.step_late, c.candidates,
-                  c.rebuilds, c.impacts);
+                  c.rebuilds, c.impacts, c.calls, c.builds, c.builds_late, c.distances,
+                  c.distances_late);
       std::fflush(stdout);
     };
     const double seconds = quick ? 0.3 : (big ? 0.8 : 1.2);

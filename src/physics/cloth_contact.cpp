@@ -112,6 +112,9 @@ struct Zones {
 void ContactStats::add(const ContactStats& other) {
   candidates = std::max(candidates, other.candidates);
   rebuilt = rebuilt || other.rebuilt;
+  calls += other.calls;
+  builds += other.builds;
+  build_distances += other.build_distances;
   proximities += other.proximities;
   impacts += other.impacts;
   rounds += other.rounds;
@@ -1043,9 +1046,12 @@ ContactStats ClothContact::Impl::resolve(double t0) {
   // the last call, and the lists built then still hold while the new end stays in them.
   if (t0 == last_t0 && dt == last_dt && meshes.empty()) frame_start = last_frame_start;
   place_meshes(t0, t0 + dt);
+  stats.calls = 1;
   if (!lists_valid()) {
     rebuild();
     stats.rebuilt = true;
+    ++stats.builds;
+    stats.build_distances += static_cast<int64_t>(pairs.size());
   }
   stats.candidates = static_cast<int>(pairs.size());
   support_of.resize(V, -1);
@@ -1060,6 +1066,8 @@ ContactStats ClothContact::Impl::resolve(double t0) {
   for (int again = 0; again < 2 && !ends_in_regions(); ++again) {
     rebuild();
     stats.rebuilt = true;
+    ++stats.builds;
+    stats.build_distances += static_cast<int64_t>(pairs.size());
     stats.candidates = static_cast<int>(pairs.size());
     select_active();
     find_supports(t0 + dt);

@@ -42,6 +42,7 @@
 // tests/physics/cloth_contact_test.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 
 #include "core/types.h"
@@ -53,6 +54,10 @@ namespace tissu {
 struct ContactStats {
   int candidates = 0;   // primitive pairs watched
   bool rebuilt = false; // the candidate lists were rebuilt
+  int calls = 0;        // times the stage ran (the implicit integrators run it again on a
+                        // step they solve again)
+  int builds = 0;       // times the candidate lists were built
+  int64_t build_distances = 0;  // pair distances measured for those builds
   int proximities = 0;  // pairs closer than their thickness (or about to be) that got impulses
   int impacts = 0;      // collisions found by continuous detection, all rounds
   int rounds = 0;       // detection rounds
@@ -60,7 +65,8 @@ struct ContactStats {
   int rigid_zones = 0;  // zones moved rigidly (last resort)
   int unresolved = 0;   // impacts left after everything (0 unless the stage gave up)
 
-  void add(const ContactStats& other);  // sums, `rebuilt` if either rebuilt
+  // Sums, `rebuilt` if either rebuilt, the larger `candidates`, the other's `unresolved`.
+  void add(const ContactStats& other);
 };
 
 // True when the model declares what the stage handles: self-collision, or a mesh obstacle.
