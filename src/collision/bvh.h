@@ -90,14 +90,6 @@ class Bvh {
   static double box_distance2(const Node& node, int k, const Vec3& p);
   static bool box_overlaps(const Node& node, int k, const Box3& b);
   static bool boxes_overlap(const Node& a, int i, const Node& b, int j);
-  // Whether two primitive boxes overlap, as Box3::intersects, without a branch per axis
-  // (the outcomes at the leaves are hard to predict).
-  static bool leaf_boxes_overlap(const Box3& a, const Box3& b) {
-    const double *al = a.min().data(), *ah = a.max().data();
-    const double *bl = b.min().data(), *bh = b.max().data();
-    return (al[0] <= bh[0]) & (bl[0] <= ah[0]) & (al[1] <= bh[1]) & (bl[1] <= ah[1]) &
-           (al[2] <= bh[2]) & (bl[2] <= ah[2]);
-  }
   Box3 child_box(const Node& node, int k) const;
 
   template <class Visit>
@@ -152,7 +144,7 @@ void Bvh::for_each_overlap(const Box3& query, Visit&& visit) const {
     const int ref = stack[--top];
     if (is_leaf(ref)) {
       for (int k = leaf_first(ref); k < leaf_first(ref) + leaf_count(ref); ++k) {
-        if (leaf_boxes_overlap(leaf_boxes_[k], query)) visit(order_[k]);
+        if (leaf_boxes_[k].intersects(query)) visit(order_[k]);
       }
       continue;
     }
@@ -167,7 +159,7 @@ void Bvh::leaf_pairs(int ref, Visit& visit) const {
   const int first = leaf_first(ref), end = first + leaf_count(ref);
   for (int i = first; i < end; ++i) {
     for (int j = i + 1; j < end; ++j) {
-      if (leaf_boxes_overlap(leaf_boxes_[i], leaf_boxes_[j])) visit(order_[i], order_[j]);
+      if (leaf_boxes_[i].intersects(leaf_boxes_[j])) visit(order_[i], order_[j]);
     }
   }
 }
@@ -219,7 +211,7 @@ void Bvh::cross_pairs(const Bvh& a, int ra, const FloatBox& box_a, const Bvh& b,
     if (leaf_a && leaf_b) {
       for (int i = leaf_first(t.ra); i < leaf_first(t.ra) + leaf_count(t.ra); ++i) {
         for (int j = leaf_first(t.rb); j < leaf_first(t.rb) + leaf_count(t.rb); ++j) {
-          if (leaf_boxes_overlap(a.leaf_boxes_[i], b.leaf_boxes_[j])) visit(a.order_[i], b.order_[j]);
+          if (a.leaf_boxes_[i].intersects(b.leaf_boxes_[j])) visit(a.order_[i], b.order_[j]);
         }
       }
       continue;
