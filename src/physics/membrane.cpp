@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "physics/biphasic.h"
 #include "physics/membrane_simd.h"
 
 namespace tissu {
@@ -20,6 +21,11 @@ inline Gradients deformation(const TriangleRest& r, const Vec3& a, const Vec3& b
 
 inline Vec3 green_strain(const Gradients& g) {
   return Vec3(0.5 * (g.U.squaredNorm() - 1.0), 0.5 * (g.V.squaredNorm() - 1.0), g.U.dot(g.V));
+}
+
+// de/dt of the Green strain from the gradients g and their rates gd = (dU/dt, dV/dt), 1/s.
+inline Vec3 strain_rate(const Gradients& g, const Gradients& gd) {
+  return Vec3(g.U.dot(gd.U), g.V.dot(gd.V), g.U.dot(gd.V) + gd.U.dot(g.V));
 }
 
 // Eq. 6 regrouped: F_j = -A ((s_uu r_uj + s_uv r_vj) U + (s_vv r_vj + s_uv r_uj) V).
@@ -80,6 +86,32 @@ void accumulate_forces(const Model& model, const Vec3List& x, const Vec3List* v,
   }
 }
 
+// The stress (N/m) of the biphasic membrane (biphasic.h) at Green strain e with strain rate
+// `rate` (1/s): D E e~ + tau D E D de/dt.
+inline Vec3 biphasic_stress(const Mat3& E, double kappa, double tau, const Vec3& e,
+                            const Vec3& rate) {
+  const BiphasicStrain b = biphasic_strain(e, kappa);
+  return b.slope.cwiseProduct(E * (b.mapped + tau * b.slope.cwiseProduct(rate)));
+}
+
+// Triangles [first, end) of a material whose compression ratio is below 1: the forces of
+// eq. 6 with the biphasic stress, viscous too when `v` is given.
+void accumulate_biphasic_forces(const Model& model, const Vec3List& x, const Vec3List* v,
+                                int first, int end, VertexForces out) {
+  const Mat3 E = model.material.stiffness();
+  const double kappa = model.material.compression_ratio;
+  const double tau = v != nullptr ? model.material.damping : 0.0;
+  for (int t = first; t < end; ++t) {
+    const Tri& tri = model.triangles[t];
+    const TriangleRest& r = model.rest[t];
+    const Gradients g = deformation(r, x[tri[0]], x[tri[1]], x[tri[2]]);
+    Vec3 rate = Vec3::Zero();
+    if (tau > 0.0) rate = strain_rate(g, deformation(r, (*v)[tri[0]], (*v)[tri[1]], (*v)[tri[2]]));
+    const Vec3 stress = biphasic_stress(E, kappa, tau, green_strain(g), rate);
+    for (int j = 0; j < 3; ++j) out[tri[j]] += corner_force(r, g, stress, j);
+  }
+}
+
 }  // namespace
 
 Vec3 triangle_strain(const TriangleRest& rest, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -87,14 +119,15 @@ Vec3 triangle_strain(const TriangleRest& rest, const Vec3& a, const Vec3& b, con
 }
 
 double triangle_energy(const TriangleRest& rest, const Mat3& E, const Vec3& a, const Vec3& b,
-                       const Vec3& c) {
-  const Vec3 e = triangle_strain(rest, a, b, c);
+                       const Vec3& c, double compression_ratio) {
+  const Vec3 e = biphasic_strain(triangle_strain(rest, a, b, c), compression_ratio).mapped;
   return 0.5 * rest.area * e.dot(E * e);
 }
 
-void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], Vec3 f[3]) {
+void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], Vec3 f[3],
+                     double compression_ratio) {
   const Gradients g = deformation(rest, x[0], x[1], x[2]);
-  const Vec3 s = E * green_strain(g);
+  const Vec3 s = biphasic_stress(E, compression_ratio, 0.0, green_strain(g), Vec3::Zero());
   for (int j = 0; j < 3; ++j) f[j] = corner_force(rest, g, s, j);
 }
 
@@ -102,7 +135,7 @@ void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* 
                          int end, VertexForces out) {
   const MembraneLayout* layout = model.membrane_layout.get();
   if (layout && layout->mesh_id == model.mesh_id &&
-      layout->num_triangles == model.num_triangles()) {
+      layout->num_triangles == model.num_triangles() && model.material.compression_ratio >= 1.0) {
     add_membrane_forces_simd(model, *layout, x, v, first, end, out);
   } else {
     add_membrane_forces_scalar(model, x, v, first, end, out);
@@ -112,7 +145,9 @@ void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* 
 void add_membrane_forces_scalar(const Model& model, const Vec3List& x, const Vec3List* v,
                                 int first, int end, VertexForces out) {
   double* base = out.data[0].data();
-  if (model.material.damping > 0.0 && v != nullptr) {
+  if (model.material.compression_ratio < 1.0) {
+    accumulate_biphasic_forces(model, x, v, first, end, out);
+  } else if (model.material.damping > 0.0 && v != nullptr) {
     accumulate_forces<true>(model, x, v, first, end, out.first_vertex, base);
   } else {
     accumulate_forces<false>(model, x, nullptr, first, end, out.first_vertex, base);
@@ -121,30 +156,33 @@ void add_membrane_forces_scalar(const Model& model, const Vec3List& x, const Vec
 
 double membrane_energy(const Model& model, const Vec3List& x) {
   const Mat3 E = model.material.stiffness();
+  const double kappa = model.material.compression_ratio;
   double total = 0.0;
   for (size_t t = 0; t < model.triangles.size(); ++t) {
     const Tri& tri = model.triangles[t];
-    total += triangle_energy(model.rest[t], E, x[tri[0]], x[tri[1]], x[tri[2]]);
+    total += triangle_energy(model.rest[t], E, x[tri[0]], x[tri[1]], x[tri[2]], kappa);
   }
   return total;
 }
 
 void triangle_energies(const Model& model, const Vec3List& x, std::vector<double>& energies) {
   const Mat3 E = model.material.stiffness();
+  const double kappa = model.material.compression_ratio;
   energies.resize(model.triangles.size());
   for (size_t t = 0; t < model.triangles.size(); ++t) {
     const Tri& tri = model.triangles[t];
-    energies[t] = triangle_energy(model.rest[t], E, x[tri[0]], x[tri[1]], x[tri[2]]);
+    energies[t] = triangle_energy(model.rest[t], E, x[tri[0]], x[tri[1]], x[tri[2]], kappa);
   }
 }
 
 double membrane_energy_change(const Model& model, const Vec3List& x,
                               const std::vector<double>& before) {
   const Mat3 E = model.material.stiffness();
+  const double kappa = model.material.compression_ratio;
   double change = 0.0;
   for (size_t t = 0; t < model.triangles.size(); ++t) {
     const Tri& tri = model.triangles[t];
-    change += triangle_energy(model.rest[t], E, x[tri[0]], x[tri[1]], x[tri[2]]) - before[t];
+    change += triangle_energy(model.rest[t], E, x[tri[0]], x[tri[1]], x[tri[2]], kappa) - before[t];
   }
   return change;
 }
@@ -165,9 +203,15 @@ double max_principal_strain(const Model& model, const Vec3List& x) {
 // Hessian of W = A/2 e^T E e: H_ij = A [ sum_ab E_ab de_a/dx_i de_b/dx_j^T
 //                                        + (R S R^T)_ij I ],  R = [r_u r_v], S = 2x2 stress.
 // The force Jacobian is -H. Damping: df/dv = -tau A sum_ab E_ab de_a/dx_i de_b/dx_j^T.
+// With a compression ratio below 1 (biphasic.h), the material term has the tangent
+// D E D + diag(phi'' (E e~)) (its negative part dropped with `project_psd`), the stress is
+// the biphasic one and the damping's material term D E D; the viscous stress's dependence
+// on x through D is left out (it is tau de/dt times phi'', negligible at rest).
 void add_membrane_jacobian(const Model& model, const Vec3List& x, const Vec3List* v,
                            bool project_psd, int first, int end, JacobianSink& sink) {
   const Mat3 E = model.material.stiffness();
+  const double kappa = model.material.compression_ratio;
+  const bool biphasic = kappa < 1.0;
   const double tau = model.material.damping;
   const bool viscous = tau > 0.0 && v != nullptr;
   const double cx = sink.cx, cv = tau > 0.0 ? sink.cv : 0.0;
@@ -179,11 +223,23 @@ void add_membrane_jacobian(const Model& model, const Vec3List& x, const Vec3List
     const Gradients g = deformation(r, x[tri[0]], x[tri[1]], x[tri[2]]);
     Vec3 strain = green_strain(g);
     Gradients gd{Vec3::Zero(), Vec3::Zero()};  // dU/dt, dV/dt, 1/s
-    if (viscous) {
-      gd = deformation(r, (*v)[tri[0]], (*v)[tri[1]], (*v)[tri[2]]);
-      strain += tau * Vec3(g.U.dot(gd.U), g.V.dot(gd.V), g.U.dot(gd.V) + gd.U.dot(g.V));
+    if (viscous) gd = deformation(r, (*v)[tri[0]], (*v)[tri[1]], (*v)[tri[2]]);
+    Vec3 s;            // elastic + viscous stress, N/m
+    Mat3 Ev = E;       // material term of the damping, N/m
+    Mat3 Ex = E;       // material tangent of the elastic stress, N/m
+    if (biphasic) {
+      const BiphasicStrain b = biphasic_strain(strain, kappa);
+      s = biphasic_stress(E, kappa, viscous ? tau : 0.0, strain,
+                          viscous ? strain_rate(g, gd) : Vec3::Zero());
+      Ev = b.slope.asDiagonal() * E * b.slope.asDiagonal();
+      Vec3 extra = b.curvature.cwiseProduct(E * b.mapped);
+      if (project_psd) extra = extra.cwiseMax(0.0);
+      Ex = Ev;
+      Ex.diagonal() += extra;
+    } else {
+      if (viscous) strain += tau * strain_rate(g, gd);
+      s = E * strain;
     }
-    const Vec3 s = E * strain;  // elastic + viscous stress, N/m
 
     Eigen::Matrix2d S;
     S << s[0], s[2], s[2], s[1];
@@ -204,10 +260,15 @@ void add_membrane_jacobian(const Model& model, const Vec3List& x, const Vec3List
     // df/dv = -A tau material.
     const double material_weight = -r.area * (cx + cv * tau);
     for (int i = 0; i < 3; ++i) {
-      const Eigen::Matrix3d JiE = J[i] * E;
+      const Eigen::Matrix3d JiE = J[i] * Ev;
       for (int j = 0; j < 3; ++j) {
         Mat3& block = blocks[3 * i + j];
-        block = material_weight * (JiE * J[j].transpose());
+        if (biphasic) {
+          block = -r.area * (cx * (J[i] * Ex * J[j].transpose()) +
+                             cv * tau * (JiE * J[j].transpose()));
+        } else {
+          block = material_weight * (JiE * J[j].transpose());
+        }
         const double geometric = r.ru[i] * r.ru[j] * S(0, 0) + r.rv[i] * r.rv[j] * S(1, 1) +
                                  (r.ru[i] * r.rv[j] + r.rv[i] * r.ru[j]) * S(0, 1);
         block.diagonal().array() -= cx * r.area * geometric;

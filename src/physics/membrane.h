@@ -3,6 +3,11 @@
 // forces F_j = -A (s_uu r_uj U + s_vv r_vj V + s_uv (r_uj V + r_vj U)), which are exactly
 // minus the gradient of the triangle energy W = A/2 e^T E e.
 // Optional strain-rate damping adds the viscous stress tau * E * de/dt.
+// Biphasic response (Material::compression_ratio kappa < 1, physics/biphasic.h): a woven
+// fabric's yarns buckle under axial compression, so the weft and warp strains enter the
+// energy through a smooth map whose slope falls from 1 to sqrt(kappa) in compression:
+// W = A/2 e~^T E e~, and the compressive stiffness tends to kappa times the tensile one.
+// Only the scalar kernel has it.
 #pragma once
 
 #include <vector>
@@ -16,17 +21,18 @@ namespace tissu {
 // Green strain (e_uu, e_vv, e_uv) of one triangle (eq. 3-4); e_uv = U.V.
 Vec3 triangle_strain(const TriangleRest& rest, const Vec3& a, const Vec3& b, const Vec3& c);
 
-// Energy of one triangle, J.
+// Energy of one triangle, J, with the compression ratio kappa (1: linear).
 double triangle_energy(const TriangleRest& rest, const Mat3& E, const Vec3& a, const Vec3& b,
-                       const Vec3& c);
+                       const Vec3& c, double compression_ratio = 1.0);
 
-// Forces on the three corners of one triangle (eq. 6), N.
-void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], Vec3 f[3]);
+// Forces on the three corners of one triangle (eq. 6), N, with the compression ratio.
+void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], Vec3 f[3],
+                     double compression_ratio = 1.0);
 
 // Adds the membrane forces of triangles [first, end) (and their strain-rate damping forces
 // when the material has damping and `v` is given), N: with the vectorised kernel
 // (membrane_simd.h) when the model has its layout, else the scalar one. Both give the
-// same bits.
+// same bits. A material with a compression ratio below 1 always takes the scalar kernel.
 void add_membrane_forces(const Model& model, const Vec3List& x, const Vec3List* v, int first,
                          int end, VertexForces out);
 // The same with the scalar kernel, one triangle after the other: the reference.

@@ -30,6 +30,10 @@ struct Material {
   double bending = 0.0;        // flexural rigidity B, N*m (energy per area B/2 k^2)
   double bending_warp = -1.0;  // optional warp flexural rigidity, N*m; < 0 = same as weft
   double damping = 0.0;        // strain-rate damping time, s: viscous stress = damping * E * de/dt
+  // Stiffness along a compressed yarn (weft or warp strain < 0) as a share of the tensile
+  // one, (0, 1]: 1 = linear (the paper's), below 1 = a woven fabric buckling at the yarn
+  // scale (physics/membrane.h, docs/materials.md).
+  double compression_ratio = 1.0;
   Mat3 stiffness() const;      // E, N/m
 };
 

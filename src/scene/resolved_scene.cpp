@@ -23,6 +23,7 @@ Json material_json(const Material& material) {
             {"bending", material.bending}};
   if (material.bending_warp >= 0.0) m["bending_warp"] = material.bending_warp;
   m["damping"] = material.damping;
+  if (material.compression_ratio < 1.0) m["compression_ratio"] = material.compression_ratio;
   return m;
 }
 

@@ -149,6 +149,8 @@ Material parse_material(JsonReader& cloth) {
   mat.bending_warp =
       m.number("bending_warp", base ? mat.bending_warp : -1.0, Range::non_negative());
   mat.damping = m.number("damping", base ? mat.damping : 0.0, Range::non_negative());
+  mat.compression_ratio =
+      m.number("compression_ratio", mat.compression_ratio, Range{0.0, 1.0, true, false});
   m.finish();
   return mat;
 }

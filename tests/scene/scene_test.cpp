@@ -171,6 +171,18 @@ TEST(SceneValidation, MaterialPresetWithOverrides) {
   EXPECT_EQ(parse_error(doc), "cloth.material.density: must be > 0, got -1");
 }
 
+// The biphasic membrane's compression ratio: 1 (linear) unless given, in (0, 1].
+TEST(SceneValidation, MaterialCompressionRatio) {
+  Json doc = valid();
+  EXPECT_EQ(parse_scene(doc, "").material.compression_ratio, 1.0);
+  doc["cloth"]["material"] = {{"preset", "cotton"}, {"compression_ratio", 0.1}};
+  EXPECT_EQ(parse_scene(doc, "").material.compression_ratio, 0.1);
+  doc["cloth"]["material"]["compression_ratio"] = 0.0;
+  EXPECT_EQ(parse_error(doc), "cloth.material.compression_ratio: must be in (0, 1], got 0");
+  doc["cloth"]["material"]["compression_ratio"] = 1.5;
+  EXPECT_EQ(parse_error(doc), "cloth.material.compression_ratio: must be in (0, 1], got 1.5");
+}
+
 TEST(SceneValidation, NonPositiveDefiniteStiffness) {
   Json doc = valid();
   doc["cloth"]["material"] = Json::parse(
