@@ -111,6 +111,24 @@ TEST(CusickDrape, DISABLED_HalvingTheEdgeChangesTheCoefficientLittle) {
   EXPECT_NEAR(fine, coarse, kTolerance);
 }
 
+// The biphasic membrane (Material::compression_ratio, physics/biphasic.h) does not make
+// the coefficient hold either: with compressed yarns 10 and 100 times softer than
+// stretched ones it still rises by 0.045 to 0.048 from 3000 to 12000 triangles, more than
+// the linear membrane's 0.037 (docs/bending.md). Membrane locking in compression is not
+// what moves it. Six runs, 13 minutes under load (docs/bending.md).
+TEST(CusickDrape, DISABLED_BiphasicMembraneUnderRefinement) {
+  for (double kappa : {0.1, 0.01}) {
+    Material cotton = isotropic("cotton");
+    cotton.compression_ratio = kappa;
+    cotton.name += ", compression ratio " + std::to_string(kappa);
+    const double coarse = run("coarse", drape(cotton, 3000)).coefficient;
+    const double middle = run("middle", drape(cotton, 6000)).coefficient;
+    const double fine = run("fine", drape(cotton, 12000)).coefficient;
+    EXPECT_NEAR(middle, coarse, kTolerance) << "kappa " << kappa;
+    EXPECT_NEAR(fine, coarse, kTolerance) << "kappa " << kappa;
+  }
+}
+
 // The mesh turned about the vertical axis (the fabric, the start and the support stay):
 // an irregular mesh and the rings of the regular disk give the same coefficient.
 TEST(CusickDrape, TurningTheMeshChangesTheCoefficientLittle) {
