@@ -220,7 +220,15 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   if (contact_stage && explicit_step) {
     ws.contact = ContactStats{};
     ws.contact_seconds = 0.0;
+    if (!scratch.placed.empty()) scratch.x_staged = state.x;
     run_collision_stage(model, state.t, h, scratch.x_start, state, ws);
+    // The stage's impulses between cloth and a mesh obstacle's edges, or between layers,
+    // can push a vertex into an obstacle; obstacles are never crossed, so a vertex the
+    // stage moved gets the obstacles' response again.
+    for (int i = 0; i < n && !scratch.placed.empty(); ++i) {
+      if (model.pinned[i] || state.x[i] == scratch.x_staged[i]) continue;
+      collide_vertex(scratch.placed, kExplicitResponse, state.x[i], state.v[i]);
+    }
   }
 
   state.step += 1;

@@ -30,6 +30,7 @@ struct StepScratch {
   std::shared_ptr<ImplicitSolver> implicit;  // created by the first implicit step
   std::shared_ptr<ClothContact> contact;     // collision stage, when the model needs it
   Vec3List x_start;                          // (V) positions at the step's start, m
+  Vec3List x_staged;                         // (V) positions before the collision stage, m
   double energy_limit = 0.0;  // J, of the state the workspace first stepped (energy_limit)
   bool has_energy_limit = false;
 };
