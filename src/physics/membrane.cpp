@@ -86,11 +86,10 @@ void accumulate_forces(const Model& model, const Vec3List& x, const Vec3List* v,
   }
 }
 
-// The stress (N/m) of the biphasic membrane (biphasic.h) at Green strain e with strain rate
-// `rate` (1/s): D E e~ + tau D E D de/dt.
-inline Vec3 biphasic_stress(const Mat3& E, double kappa, double tau, const Vec3& e,
+// The stress (N/m) of the biphasic membrane (biphasic.h) at the mapped strain b with strain
+// rate `rate` (1/s): D E e~ + tau D E D de/dt.
+inline Vec3 biphasic_stress(const Mat3& E, const BiphasicStrain& b, double tau,
                             const Vec3& rate) {
-  const BiphasicStrain b = biphasic_strain(e, kappa);
   return b.slope.cwiseProduct(E * (b.mapped + tau * b.slope.cwiseProduct(rate)));
 }
 
@@ -107,7 +106,7 @@ void accumulate_biphasic_forces(const Model& model, const Vec3List& x, const Vec
     const Gradients g = deformation(r, x[tri[0]], x[tri[1]], x[tri[2]]);
     Vec3 rate = Vec3::Zero();
     if (tau > 0.0) rate = strain_rate(g, deformation(r, (*v)[tri[0]], (*v)[tri[1]], (*v)[tri[2]]));
-    const Vec3 stress = biphasic_stress(E, kappa, tau, green_strain(g), rate);
+    const Vec3 stress = biphasic_stress(E, biphasic_strain(green_strain(g), kappa), tau, rate);
     for (int j = 0; j < 3; ++j) out[tri[j]] += corner_force(r, g, stress, j);
   }
 }
@@ -127,7 +126,8 @@ double triangle_energy(const TriangleRest& rest, const Mat3& E, const Vec3& a, c
 void triangle_forces(const TriangleRest& rest, const Mat3& E, const Vec3 x[3], Vec3 f[3],
                      double compression_ratio) {
   const Gradients g = deformation(rest, x[0], x[1], x[2]);
-  const Vec3 s = biphasic_stress(E, compression_ratio, 0.0, green_strain(g), Vec3::Zero());
+  const Vec3 s = biphasic_stress(E, biphasic_strain(green_strain(g), compression_ratio), 0.0,
+                                 Vec3::Zero());
   for (int j = 0; j < 3; ++j) f[j] = corner_force(rest, g, s, j);
 }
 
@@ -229,8 +229,7 @@ void add_membrane_jacobian(const Model& model, const Vec3List& x, const Vec3List
     Mat3 Ex = E;       // material tangent of the elastic stress, N/m
     if (biphasic) {
       const BiphasicStrain b = biphasic_strain(strain, kappa);
-      s = biphasic_stress(E, kappa, viscous ? tau : 0.0, strain,
-                          viscous ? strain_rate(g, gd) : Vec3::Zero());
+      s = biphasic_stress(E, b, viscous ? tau : 0.0, viscous ? strain_rate(g, gd) : Vec3::Zero());
       Ev = b.slope.asDiagonal() * E * b.slope.asDiagonal();
       Vec3 extra = b.curvature.cwiseProduct(E * b.mapped);
       if (project_psd) extra = extra.cwiseMax(0.0);
