@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "render/image/fxaa_edges_simd.h"
 #include "render/image/pixel_simd.h"
 
 namespace tissu {
@@ -16,34 +17,6 @@ constexpr float kReduceMin = 1.0f / 128.0f;
 constexpr float kEdgeMin = 1.0f / 24.0f;    // luma contrast, absolute
 constexpr float kEdgeRelative = 1.0f / 8.0f;  // and relative to the brightest neighbour
 
-struct Rgb {
-  float r = 0, g = 0, b = 0;
-};
-
-float luma_of(const Rgb& c) { return (77.0f * c.r + 150.0f * c.g + 29.0f * c.b) * (1.0f / (256.0f * 255.0f)); }
-
-// Bilinear sample of `src` at pixel coordinates (x, y) (pixel centres at integers),
-// clamped to the image.
-inline __attribute__((always_inline)) Rgb sample(const std::vector<std::uint8_t>& src, int width, int height,
-                                                float x, float y) {
-  x = std::clamp(x, 0.0f, float(width - 1));
-  y = std::clamp(y, 0.0f, float(height - 1));
-  const int x0 = std::min(int(x), width - 2), y0 = std::min(int(y), height - 2);
-  const float fx = x - x0, fy = y - y0;
-  const std::uint8_t* a = &src[(std::size_t(y0) * width + x0) * 3];
-  const std::uint8_t* b = a + 3;
-  const std::uint8_t* c = a + std::size_t(width) * 3;
-  const std::uint8_t* d = c + 3;
-  auto mix = [&](int k) {
-    const float top = a[k] + (b[k] - a[k]) * fx;
-    const float bottom = c[k] + (d[k] - c[k]) * fx;
-    return top + (bottom - top) * fy;
-  };
-  return {mix(0), mix(1), mix(2)};
-}
-
-std::uint8_t to_byte(float v) { return static_cast<std::uint8_t>(std::clamp(v + 0.5f, 0.0f, 255.0f)); }
-
 }  // namespace
 
 void fxaa_rgb(std::vector<std::uint8_t>& rgb, int width, int height, FxaaScratch& scratch) {
@@ -52,8 +25,8 @@ void fxaa_rgb(std::vector<std::uint8_t>& rgb, int width, int height, FxaaScratch
   scratch.luma.resize(n);
   std::uint8_t* L = scratch.luma.data();
   rgb_luma(rgb.data(), L, n);  // Rec. 601 weights in 1/256ths: 77, 150, 29
-  scratch.changed_at.clear();
-  scratch.changed_rgb.clear();
+  FxaaEdges& edges = scratch.edges;
+  edges.clear();
   const std::uint8_t edge_min = static_cast<std::uint8_t>(std::lround(kEdgeMin * 255.0f));
   scratch.edge.resize(width);
   std::uint8_t* edge = scratch.edge.data();
@@ -96,24 +69,23 @@ void fxaa_rgb(std::vector<std::uint8_t>& rgb, int width, int height, FxaaScratch
       float dy = (nw + sw) - (ne + se);
       const float reduce = std::max((nw + ne + sw + se) * 0.25f * kReduceMul, kReduceMin);
       const float scale = 1.0f / (std::min(std::fabs(dx), std::fabs(dy)) + reduce);
-      dx = std::clamp(dx * scale, -kSpanMax, kSpanMax);
-      dy = std::clamp(dy * scale, -kSpanMax, kSpanMax);
-      const Rgb a = sample(rgb, width, height, x - dx / 6.0f, y - dy / 6.0f);
-      const Rgb b = sample(rgb, width, height, x + dx / 6.0f, y + dy / 6.0f);
-      const Rgb near{0.5f * (a.r + b.r), 0.5f * (a.g + b.g), 0.5f * (a.b + b.b)};
-      const Rgb c = sample(rgb, width, height, x - dx * 0.5f, y - dy * 0.5f);
-      const Rgb d = sample(rgb, width, height, x + dx * 0.5f, y + dy * 0.5f);
-      const Rgb wide{0.5f * near.r + 0.25f * (c.r + d.r), 0.5f * near.g + 0.25f * (c.g + d.g),
-                     0.5f * near.b + 0.25f * (c.b + d.b)};
-      const float wide_luma = luma_of(wide);
-      const Rgb& out = (wide_luma < block_lo || wide_luma > block_hi) ? near : wide;
-      // Written after the scan: later pixels sample the frame as it was.
-      scratch.changed_at.push_back(static_cast<std::uint32_t>(std::size_t(y) * width + x));
-      scratch.changed_rgb.insert(scratch.changed_rgb.end(), {to_byte(out.r), to_byte(out.g), to_byte(out.b)});
+      // The samples along the edge are taken after the scan, several pixels at once, from
+      // the frame as it was; the results are written after that.
+      edges.x.push_back(x);
+      edges.y.push_back(y);
+      edges.dx.push_back(std::clamp(dx * scale, -kSpanMax, kSpanMax));
+      edges.dy.push_back(std::clamp(dy * scale, -kSpanMax, kSpanMax));
+      edges.luma_lo.push_back(block_lo);
+      edges.luma_hi.push_back(block_hi);
     }
   }
-  for (std::size_t k = 0; k < scratch.changed_at.size(); ++k) {
-    std::copy_n(&scratch.changed_rgb[3 * k], 3, &rgb[3 * std::size_t(scratch.changed_at[k])]);
+  fxaa_blend_edges(rgb.data(), width, height, edges);
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    std::uint8_t* pixel = &rgb[3 * (std::size_t(edges.y[k]) * width + edges.x[k])];
+    const std::uint32_t c = edges.blended[k];
+    pixel[0] = static_cast<std::uint8_t>(c);
+    pixel[1] = static_cast<std::uint8_t>(c >> 8);
+    pixel[2] = static_cast<std::uint8_t>(c >> 16);
   }
 }
 

@@ -7,13 +7,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "render/image/fxaa_edges_simd.h"
+
 namespace tissu {
 
 struct FxaaScratch {
   std::vector<std::uint8_t> luma;  // per pixel, 0..255
   std::vector<std::uint8_t> edge;  // per pixel of a row: 1 on an edge
-  std::vector<std::uint32_t> changed_at;  // pixels that change, and their new colours
-  std::vector<std::uint8_t> changed_rgb;
+  FxaaEdges edges;  // the pixels on an edge, and their new colours
 };
 
 // Smooths the edges of `rgb` (width * height * 3 bytes, rows in any order) in place. A
