@@ -1,7 +1,10 @@
 // Where an implicit run of a scene spends its steps: per step the substeps, Newton and CG
 // iterations (totals over the substeps and any retry), the contacts at the end of the step
 // and the step's processor time (one thread). Totals at the end.
-//   ./build/bench/tissu_implicit_profile SCENE [--set KEY=VALUE]... [--every N]
+//   ./build/bench/tissu_implicit_profile SCENE [--set KEY=VALUE]... [--every N] [--detail]
+// --detail adds, for each printed step, its last substep's Newton iterations one by one
+// (residual, line-search length, CG iterations), factorizations, contact changes and the
+// processor time of its stages.
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -15,6 +18,26 @@
 
 using namespace tissu;
 
+namespace {
+
+void print_detail(const ImplicitReport& r) {
+  std::printf("       last substep: %d factorizations, %d contact changes, %d stuck\n",
+              r.factorizations, r.contact_changes, r.stuck_contacts);
+  std::printf("       residuals:");
+  for (double res : r.residuals) std::printf(" %.2e", res);
+  std::printf("\n       lengths:  ");
+  for (double len : r.step_lengths) std::printf(" %.2f", len);
+  std::printf("\n       max dv m/s:");
+  for (double dv : r.velocity_changes) std::printf(" %.1e", dv);
+  std::printf("\n       CG:       ");
+  for (int n : r.cg_per_iteration) std::printf(" %d", n);
+  std::printf("\n       ms: jacobian %.1f, preconditioner %.1f, cg %.1f, residual %.1f, contact %.1f\n",
+              1e3 * r.seconds_jacobian, 1e3 * r.seconds_preconditioner, 1e3 * r.seconds_cg,
+              1e3 * r.seconds_residual, 1e3 * r.seconds_contact);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s SCENE [--set KEY=VALUE]... [--every N]\n", argv[0]);
@@ -22,12 +45,15 @@ int main(int argc, char** argv) {
   }
   std::vector<std::string> overrides;
   int every = 1;
+  bool detail = false;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--set" && i + 1 < argc) {
       overrides.push_back(argv[++i]);
     } else if (a == "--every" && i + 1 < argc) {
       every = std::atoi(argv[++i]);
+    } else if (a == "--detail") {
+      detail = true;
     } else {
       std::fprintf(stderr, "%s: unknown argument '%s'\n", argv[0], a.c_str());
       return 2;
@@ -59,6 +85,7 @@ int main(int argc, char** argv) {
     if (r && (k % every == 0 || divergence)) {
       std::printf("%6lld %8.4f %4d %6d %6d %8d %8.1f\n", k, sim.state.t, ws.substeps,
                   ws.newton_iterations, ws.cg_iterations, r->contacts, ms);
+      if (detail) print_detail(*r);
     }
     if (divergence) {
       std::printf("diverged at t = %g s: %s\n", divergence->time, divergence->reason.c_str());

@@ -373,6 +373,8 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     std::swap(fresh.residuals, report.residuals);
     std::swap(fresh.step_lengths, report.step_lengths);
     std::swap(fresh.cg_per_iteration, report.cg_per_iteration);
+    std::swap(fresh.velocity_changes, report.velocity_changes);
+    fresh.velocity_changes.clear();
     fresh.residuals.clear();
     fresh.step_lengths.clear();
     fresh.cg_per_iteration.clear();
@@ -507,10 +509,15 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
       report.line_search_failed = best_alpha == 0.0;
       accepted = best_alpha > 0.0 ? best_alpha : (k == 0 ? 0.0 : 1.0);
     }
+    double largest_change = 0.0;
     for (int i = 0; i < n; ++i) {
-      if (!model.pinned[i]) s.v[i] += accepted * s.dv.segment<3>(3 * i);
+      if (model.pinned[i]) continue;
+      const Vec3 change = accepted * s.dv.segment<3>(3 * i);
+      s.v[i] += change;
+      largest_change = std::max(largest_change, change.norm());
     }
     report.step_lengths.push_back(accepted);
+    report.velocity_changes.push_back(largest_change);
     report.seconds_residual += processor_seconds_since(t0);
 
     // Vertices the new iterate puts inside an obstacle get contacts, and the iterate meets
@@ -528,7 +535,6 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
       report.seconds_contact += processor_seconds_since(t0);
     }
     if (contact_changes > 0) report.contact_changes += 1;
-
 
     t0 = std::clock();
     evaluate(model, state, s, eq, plan, threads, s.v, s.x, s.f);

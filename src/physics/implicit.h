@@ -39,6 +39,7 @@ struct ImplicitReport {
   std::vector<double> residuals;     // initial, then after each Newton iteration
   std::vector<double> step_lengths;  // line-search step per iteration
   std::vector<int> cg_per_iteration;  // per solve
+  std::vector<double> velocity_changes;  // per iteration, the largest |v change| taken, m/s
   bool cg_failed = false;  // some linear solve missed cg_tolerance (its result was
                            // still used, guarded by the line search)
   bool line_search_failed = false;  // some direction decreased the merit at no length
