@@ -71,6 +71,11 @@ class Bvh {
       return lo[0] <= o.hi[0] && o.lo[0] <= hi[0] && lo[1] <= o.hi[1] && o.lo[1] <= hi[1] &&
              lo[2] <= o.hi[2] && o.lo[2] <= hi[2];
     }
+    // Whether the exact box b meets this one (which holds every box it was rounded from).
+    bool meets(const Box3& b) const {
+      return lo[0] <= b.max()[0] && b.min()[0] <= hi[0] && lo[1] <= b.max()[1] &&
+             b.min()[1] <= hi[1] && lo[2] <= b.max()[2] && b.min()[2] <= hi[2];
+    }
     float extent() const { return (hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]); }
   };
   FloatBox subtree_box(int ref) const;  // the root's (ref == root_) or a leaf's, rounded outward
@@ -96,6 +101,9 @@ class Bvh {
   void leaf_pairs(int ref, Visit& visit) const;
   template <class Visit>
   void self_pairs(int ref, Visit& visit) const;
+  template <class Visit>
+  static void leaf_cross_pairs(const Bvh& a, int ra, const FloatBox& box_a, const Bvh& b, int rb,
+                               const FloatBox& box_b, Visit& visit);
   template <class Visit>
   void cross_pairs(const Bvh& a, int ra, const FloatBox& box_a, const Bvh& b, int rb,
                    const FloatBox& box_b, Visit& visit) const;
@@ -209,11 +217,7 @@ void Bvh::cross_pairs(const Bvh& a, int ra, const FloatBox& box_a, const Bvh& b,
     stack.pop_back();
     const bool leaf_a = is_leaf(t.ra), leaf_b = is_leaf(t.rb);
     if (leaf_a && leaf_b) {
-      for (int i = leaf_first(t.ra); i < leaf_first(t.ra) + leaf_count(t.ra); ++i) {
-        for (int j = leaf_first(t.rb); j < leaf_first(t.rb) + leaf_count(t.rb); ++j) {
-          if (a.leaf_boxes_[i].intersects(b.leaf_boxes_[j])) visit(a.order_[i], b.order_[j]);
-        }
-      }
+      leaf_cross_pairs(a, t.ra, t.ba, b, t.rb, t.bb, visit);
       continue;
     }
     // Open the inner node with the larger box (or the only inner one).
@@ -230,6 +234,29 @@ void Bvh::cross_pairs(const Bvh& a, int ra, const FloatBox& box_a, const Bvh& b,
         const FloatBox child = FloatBox::of(n, k);
         if (child.overlaps(t.ba)) stack.push_back({t.ra, n.child[k], t.ba, child});
       }
+    }
+  }
+}
+
+// Pairs between leaf ra of a and leaf rb of b (boxes box_a, box_b, rounded outward), in
+// the order of a full double loop over both leaves: only primitives whose box meets the
+// other leaf's box can overlap one of its primitives, so the loop runs over those alone.
+template <class Visit>
+void Bvh::leaf_cross_pairs(const Bvh& a, int ra, const FloatBox& box_a, const Bvh& b, int rb,
+                           const FloatBox& box_b, Visit& visit) {
+  int near_a[7], near_b[7];
+  int na = 0, nb = 0;
+  for (int i = leaf_first(ra); i < leaf_first(ra) + leaf_count(ra); ++i) {
+    if (box_b.meets(a.leaf_boxes_[i])) near_a[na++] = i;
+  }
+  if (na == 0) return;
+  for (int j = leaf_first(rb); j < leaf_first(rb) + leaf_count(rb); ++j) {
+    if (box_a.meets(b.leaf_boxes_[j])) near_b[nb++] = j;
+  }
+  for (int u = 0; u < na; ++u) {
+    const Box3& box = a.leaf_boxes_[near_a[u]];
+    for (int w = 0; w < nb; ++w) {
+      if (box.intersects(b.leaf_boxes_[near_b[w]])) visit(a.order_[near_a[u]], b.order_[near_b[w]]);
     }
   }
 }

@@ -1,6 +1,7 @@
 // The hierarchy's queries against brute force over random boxes.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <random>
 #include <set>
 
@@ -72,6 +73,72 @@ TEST_P(BvhLeaves, SelfAndCrossPairsMatchBruteForceAfterRefit) {
 }
 
 INSTANTIATE_TEST_SUITE_P(LeafSizes, BvhLeaves, ::testing::Values(1, 2, 3, 6));
+
+// FNV-1a over the sequence of pairs a self-overlap visits.
+uint64_t self_pair_sequence_hash(const Bvh& tree, int* count) {
+  uint64_t h = 1469598103934665603ull;
+  *count = 0;
+  tree.for_each_self_overlap([&](int i, int j) {
+    for (int v : {i, j}) {
+      for (int byte = 0; byte < 4; ++byte) {
+        h ^= (static_cast<uint32_t>(v) >> (8 * byte)) & 0xffu;
+        h *= 1099511628211ull;
+      }
+    }
+    ++*count;
+  });
+  return h;
+}
+
+// Boxes of the edges of a 60 x 40 grid sheet (1 cm squares, one diagonal each) folded in
+// half over itself, its layers 3 mm apart, each grown by 4 mm (a build's regions).
+std::vector<Box3> folded_sheet_edge_boxes() {
+  constexpr int kNx = 60, kNy = 40;
+  constexpr double kCell = 0.01, kGap = 0.003, kGrow = 0.004;  // m
+  auto point = [&](int i, int j) {
+    const double u = i * kCell, half = 0.5 * kNx * kCell;
+    return u <= half ? Vec3(u, j * kCell, 0.0) : Vec3(2.0 * half - u, j * kCell, kGap);
+  };
+  std::vector<Box3> boxes;
+  auto edge = [&](int i0, int j0, int i1, int j1) {
+    Box3 b(point(i0, j0));
+    b.extend(point(i1, j1));
+    boxes.emplace_back(b.min() - Vec3::Constant(kGrow), b.max() + Vec3::Constant(kGrow));
+  };
+  for (int j = 0; j <= kNy; ++j) {
+    for (int i = 0; i <= kNx; ++i) {
+      if (i < kNx) edge(i, j, i + 1, j);
+      if (j < kNy) edge(i, j, i, j + 1);
+      if (i < kNx && j < kNy) edge(i, j, i + 1, j + 1);
+    }
+  }
+  return boxes;
+}
+
+// The order in which self-overlap visits its pairs decides the order of the collision
+// stage's pair lists, and so its bits: it must stay that of the full double loop over
+// every pair of leaves (the values below are that traversal's, before its leaves were
+// pruned against each other's boxes).
+TEST(Bvh, SelfPairsKeepTheirOrder) {
+  std::vector<Box3> boxes = random_boxes(1500, 7);
+  for (Box3& b : boxes) b = Box3(b.min() - Vec3::Constant(0.4), b.max() + Vec3::Constant(0.4));
+  Bvh tree;
+  tree.build(boxes, 6);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> shift(-0.3, 0.3);
+  for (Box3& b : boxes) b.translate(Vec3(shift(rng), shift(rng), shift(rng)));
+  tree.refit(boxes);
+  int count = 0;
+  const uint64_t random_hash = self_pair_sequence_hash(tree, &count);
+  EXPECT_EQ(count, 10385);
+  EXPECT_EQ(random_hash, 5120118690118192179ull);
+
+  Bvh sheet;
+  sheet.build(folded_sheet_edge_boxes(), 6);
+  const uint64_t sheet_hash = self_pair_sequence_hash(sheet, &count);
+  EXPECT_EQ(count, 106757);
+  EXPECT_EQ(sheet_hash, 6718548508419488741ull);
+}
 
 TEST(Bvh, NearestMatchesBruteForce) {
   const std::vector<Box3> boxes = random_boxes(400, 6);
