@@ -2,6 +2,8 @@
 // only by their boxes), built top-down by the surface area heuristic (binned). Each inner node holds both children's boxes in single precision, rounded
 // outward (one cache line per node visited); leaves test the primitives' own boxes in
 // double precision, so every query answers exactly as brute force over the boxes would.
+// Box tests at the leaves are without branches (their outcomes are hard to predict) and
+// give their hits in leaf order: the order of the pairs found is that of plain loops.
 // Queries: primitives overlapping a box, overlapping pairs within one tree or between two,
 // and the primitive nearest to a point. refit() moves the boxes of the same primitives
 // without rebuilding (deforming cloth). Tested in tests/collision/bvh_test.
@@ -68,17 +70,22 @@ class Bvh {
       return {{n.lo[k][0], n.lo[k][1], n.lo[k][2]}, {n.hi[k][0], n.hi[k][1], n.hi[k][2]}};
     }
     bool overlaps(const FloatBox& o) const {
-      return lo[0] <= o.hi[0] && o.lo[0] <= hi[0] && lo[1] <= o.hi[1] && o.lo[1] <= hi[1] &&
-             lo[2] <= o.hi[2] && o.lo[2] <= hi[2];
+      return (lo[0] <= o.hi[0]) & (o.lo[0] <= hi[0]) & (lo[1] <= o.hi[1]) & (o.lo[1] <= hi[1]) &
+             (lo[2] <= o.hi[2]) & (o.lo[2] <= hi[2]);
     }
     // Whether the exact box b meets this one (which holds every box it was rounded from).
     bool meets(const Box3& b) const {
-      return lo[0] <= b.max()[0] && b.min()[0] <= hi[0] && lo[1] <= b.max()[1] &&
-             b.min()[1] <= hi[1] && lo[2] <= b.max()[2] && b.min()[2] <= hi[2];
+      return (lo[0] <= b.max()[0]) & (b.min()[0] <= hi[0]) & (lo[1] <= b.max()[1]) &
+             (b.min()[1] <= hi[1]) & (lo[2] <= b.max()[2]) & (b.min()[2] <= hi[2]);
     }
     float extent() const { return (hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]); }
   };
   FloatBox subtree_box(int ref) const;  // the root's (ref == root_) or a leaf's, rounded outward
+  // Box3::intersects without branches.
+  static bool meet(const Box3& a, const Box3& b) {
+    return (a.min()[0] <= b.max()[0]) & (b.min()[0] <= a.max()[0]) & (a.min()[1] <= b.max()[1]) &
+           (b.min()[1] <= a.max()[1]) & (a.min()[2] <= b.max()[2]) & (b.min()[2] <= a.max()[2]);
+  }
   static bool is_leaf(int ref) { return ref < 0; }
   static int leaf_first(int ref) { return (~ref) >> 3; }
   static int leaf_count(int ref) { return (~ref) & 7; }
@@ -129,10 +136,9 @@ inline double Bvh::box_distance2(const Node& node, int k, const Vec3& p) {
 }
 
 inline bool Bvh::box_overlaps(const Node& node, int k, const Box3& b) {
-  for (int a = 0; a < 3; ++a) {
-    if (node.lo[k][a] > b.max()[a] || node.hi[k][a] < b.min()[a]) return false;
-  }
-  return true;
+  return !((node.lo[k][0] > b.max()[0]) | (node.hi[k][0] < b.min()[0]) |
+           (node.lo[k][1] > b.max()[1]) | (node.hi[k][1] < b.min()[1]) |
+           (node.lo[k][2] > b.max()[2]) | (node.hi[k][2] < b.min()[2]));
 }
 
 inline bool Bvh::boxes_overlap(const Node& a, int i, const Node& b, int j) {
@@ -151,9 +157,12 @@ void Bvh::for_each_overlap(const Box3& query, Visit&& visit) const {
   while (top > 0) {
     const int ref = stack[--top];
     if (is_leaf(ref)) {
-      for (int k = leaf_first(ref); k < leaf_first(ref) + leaf_count(ref); ++k) {
-        if (leaf_boxes_[k].intersects(query)) visit(order_[k]);
+      const int first = leaf_first(ref);
+      unsigned hits = 0;
+      for (int k = 0; k < leaf_count(ref); ++k) {
+        hits |= static_cast<unsigned>(meet(leaf_boxes_[first + k], query)) << k;
       }
+      for (; hits != 0; hits &= hits - 1) visit(order_[first + __builtin_ctz(hits)]);
       continue;
     }
     const Node& node = nodes_[ref];
@@ -166,9 +175,11 @@ template <class Visit>
 void Bvh::leaf_pairs(int ref, Visit& visit) const {
   const int first = leaf_first(ref), end = first + leaf_count(ref);
   for (int i = first; i < end; ++i) {
+    unsigned hits = 0;
     for (int j = i + 1; j < end; ++j) {
-      if (leaf_boxes_[i].intersects(leaf_boxes_[j])) visit(order_[i], order_[j]);
+      hits |= static_cast<unsigned>(meet(leaf_boxes_[i], leaf_boxes_[j])) << (j - first);
     }
+    for (; hits != 0; hits &= hits - 1) visit(order_[i], order_[first + __builtin_ctz(hits)]);
   }
 }
 
@@ -247,16 +258,22 @@ void Bvh::leaf_cross_pairs(const Bvh& a, int ra, const FloatBox& box_a, const Bv
   int near_a[7], near_b[7];
   int na = 0, nb = 0;
   for (int i = leaf_first(ra); i < leaf_first(ra) + leaf_count(ra); ++i) {
-    if (box_b.meets(a.leaf_boxes_[i])) near_a[na++] = i;
+    near_a[na] = i;
+    na += box_b.meets(a.leaf_boxes_[i]);
   }
   if (na == 0) return;
   for (int j = leaf_first(rb); j < leaf_first(rb) + leaf_count(rb); ++j) {
-    if (box_a.meets(b.leaf_boxes_[j])) near_b[nb++] = j;
+    near_b[nb] = j;
+    nb += box_a.meets(b.leaf_boxes_[j]);
   }
   for (int u = 0; u < na; ++u) {
     const Box3& box = a.leaf_boxes_[near_a[u]];
+    unsigned hits = 0;
     for (int w = 0; w < nb; ++w) {
-      if (box.intersects(b.leaf_boxes_[near_b[w]])) visit(a.order_[near_a[u]], b.order_[near_b[w]]);
+      hits |= static_cast<unsigned>(meet(box, b.leaf_boxes_[near_b[w]])) << w;
+    }
+    for (; hits != 0; hits &= hits - 1) {
+      visit(a.order_[near_a[u]], b.order_[near_b[__builtin_ctz(hits)]]);
     }
   }
 }
