@@ -10,6 +10,7 @@
 #include "physics/force_plan.h"
 #include "physics/forces.h"
 #include "physics/implicit.h"
+#include "physics/obstacle_response.h"
 #include "physics/parallel.h"
 #include "physics/step_scratch.h"
 #include "physics/vertex_pass.h"
@@ -36,63 +37,6 @@ void correct_position(const PositionCorrection& pc, double h, const Vec3& x_old,
     if (dist > pc.threshold) x = x_old + diff / 2.0;
   }
   if (dist > pc.threshold) v = (x - x_old) / h;
-}
-
-// Signed distance (m) from p to a placed obstacle's surface and the outward normal, or
-// +infinity when p is beyond a sphere's contact distance (the common case, decided
-// without a square root).
-double distance_if_near(const PlacedObstacle& placed, const Vec3& p, Vec3* normal) {
-  const Obstacle& ob = *placed.obstacle;
-  const double reach = ob.radius + ob.thickness;
-  if (ob.kind == ObstacleKind::Sphere && (p - placed.center).squaredNorm() >= reach * reach) {
-    return INFINITY;
-  }
-  return ob.signed_distance_from(p, placed.center, normal, placed.rotation, ob.thickness);
-}
-
-// How the collision stage treats a vertex closer to an obstacle than its thickness.
-struct CollisionResponse {
-  double tolerance = 0.0;  // m: shortfalls up to this are left alone
-  bool friction = true;    // Coulomb friction from the removed normal velocity
-};
-
-// After an explicit step: section 2.3 with the projection corrected (notes.md).
-constexpr CollisionResponse kExplicitResponse{0.0, true};
-// After an implicit step, which kept its contacts on their tangent planes: only a vertex
-// its contact passes left inside is moved out (without friction, which the solve applies).
-constexpr CollisionResponse kImplicitResponse{1e-9, false};
-
-// For one vertex: closer to an obstacle than its thickness, it moves out to that distance
-// along the normal at the closest surface point; the inward normal velocity relative to
-// the obstacle is removed and (with friction) Coulomb friction slows the tangential
-// velocity by mu * |removed normal part|. Overlapping obstacles: repeated until it is
-// clear of all (at most four passes).
-void collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
-                    Vec3& x, Vec3& v) {
-  constexpr int kPasses = 4;
-  for (int pass = 0; pass < kPasses; ++pass) {
-    bool moved = false;
-    for (const PlacedObstacle& placed : obstacles) {
-      Vec3 n;
-      const double shortfall = placed.obstacle->thickness - distance_if_near(placed, x, &n);
-      if (!(shortfall > response.tolerance)) continue;
-      moved = true;
-      x += shortfall * n;
-      const Vec3 surface_velocity =
-          placed.velocity + placed.angular_velocity.cross(x - placed.center);
-      const Vec3 relative = v - surface_velocity;
-      const double vn = relative.dot(n);
-      if (vn >= 0.0) continue;
-      Vec3 tangential = relative - vn * n;
-      if (response.friction) {
-        const double vt = tangential.norm();
-        const double slow = placed.obstacle->friction * (-vn);
-        tangential = (vt <= slow) ? Vec3::Zero() : Vec3(tangential * (1.0 - slow / vt));
-      }
-      v = surface_velocity + tangential;
-    }
-    if (!moved) break;
-  }
 }
 
 void place_obstacles(const Model& model, double t, std::vector<PlacedObstacle>& placed) {
@@ -205,9 +149,7 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
     }
     if (!scratch.placed.empty()) {
       const CollisionResponse response = explicit_step ? kExplicitResponse : kImplicitResponse;
-      for (int i = first; i < end; ++i) {
-        if (!model.pinned[i]) collide_vertex(scratch.placed, response, state.x[i], state.v[i]);
-      }
+      collide_block(scratch.placed, response, model.pinned, first, end, state.x, state.v);
     }
     if (fused_check) return;
     for (int i = first; i < end; ++i) {

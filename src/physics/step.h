@@ -38,6 +38,8 @@ constexpr int kExplicitEnergyCheck = 64;
 
 // Collision stage on its own (section 2.3): moves every free vertex closer to an obstacle
 // than its thickness at time t out to that distance and applies the velocity response.
+// Every free vertex gets the scalar response, without the step's vectorised near-test:
+// the reference that test is checked against (tests/physics/obstacle_simd_test).
 void resolve_collisions(const Model& model, double t, Vec3List& x, Vec3List& v);
 
 }  // namespace tissu

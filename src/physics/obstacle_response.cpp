@@ -1,0 +1,69 @@
+#include "physics/obstacle_response.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "physics/force_plan.h"
+#include "physics/obstacle_simd.h"
+
+namespace tissu {
+
+namespace {
+
+// Signed distance (m) from p to a placed obstacle's surface and the outward normal, or
+// +infinity when p is beyond a sphere's contact distance (the common case, decided
+// without a square root).
+double distance_if_near(const PlacedObstacle& placed, const Vec3& p, Vec3* normal) {
+  const Obstacle& ob = *placed.obstacle;
+  const double reach = ob.radius + ob.thickness;
+  if (ob.kind == ObstacleKind::Sphere && (p - placed.center).squaredNorm() >= reach * reach) {
+    return INFINITY;
+  }
+  return ob.signed_distance_from(p, placed.center, normal, placed.rotation, ob.thickness);
+}
+
+}  // namespace
+
+void collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
+                    Vec3& x, Vec3& v) {
+  constexpr int kPasses = 4;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    bool moved = false;
+    for (const PlacedObstacle& placed : obstacles) {
+      Vec3 n;
+      const double shortfall = placed.obstacle->thickness - distance_if_near(placed, x, &n);
+      if (!(shortfall > response.tolerance)) continue;
+      moved = true;
+      x += shortfall * n;
+      const Vec3 surface_velocity =
+          placed.velocity + placed.angular_velocity.cross(x - placed.center);
+      const Vec3 relative = v - surface_velocity;
+      const double vn = relative.dot(n);
+      if (vn >= 0.0) continue;
+      Vec3 tangential = relative - vn * n;
+      if (response.friction) {
+        const double vt = tangential.norm();
+        const double slow = placed.obstacle->friction * (-vn);
+        tangential = (vt <= slow) ? Vec3::Zero() : Vec3(tangential * (1.0 - slow / vt));
+      }
+      v = surface_velocity + tangential;
+    }
+    if (!moved) break;
+  }
+}
+
+void collide_block(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
+                   const std::vector<uint8_t>& pinned, int first, int end, Vec3List& x,
+                   Vec3List& v) {
+  int near[ForcePlan::kVerticesPerBlock];
+  for (int begin = first; begin < end; begin += ForcePlan::kVerticesPerBlock) {
+    const int stop = std::min(end, begin + ForcePlan::kVerticesPerBlock);
+    const int count = select_near_obstacles(obstacles, x, begin, stop, near);
+    for (int k = 0; k < count; ++k) {
+      const int i = near[k];
+      if (!pinned[i]) collide_vertex(obstacles, response, x[i], v[i]);
+    }
+  }
+}
+
+}  // namespace tissu
