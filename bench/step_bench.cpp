@@ -3,7 +3,8 @@
 // process's CPU time (best of 5 repeats), so other load on the machine inflates them less
 // than wall time would. With --threads N (N > 1) the whole step is also timed on N
 // threads, in wall time (best of 5), with its speed-up over the one-thread wall time.
-// Then the membrane kernels side by side (scalar reference, vectorised) at about 5,000 and
+// Then the obstacle stage (scalar on every vertex, and with the vectorised near-test) and
+// the membrane kernels side by side (scalar reference, vectorised) at about 5,000 and
 // 50,000 triangles, and a whole step of a 1,000,000-triangle sheet on 1 and 2 threads with
 // the memory its data take (skipped with --no-million), and the memory bandwidth a
 // triad a[i] = b[i] + s c[i] over 3 x 128 MB reaches on 1 and 2 threads (the roofline's
@@ -24,11 +25,13 @@
 
 #include "mesh/generate.h"
 #include "physics/bending.h"
+#include "physics/force_plan.h"
 #include "physics/forces.h"
 #include "physics/materials.h"
 #include "physics/membrane.h"
 #include "physics/membrane_layout.h"
 #include "physics/membrane_simd.h"
+#include "physics/obstacle_response.h"
 #include "physics/step_scratch.h"
 #include "physics/step.h"
 
@@ -138,6 +141,42 @@ void compare_kernels(bool quick) {
     std::printf("%-10d %-8s %16.2f %16.2f %7.2fx\n", tris, "bending", scalar * 1e9 / tris,
                 vector * 1e9 / tris, scalar / vector);
   }
+}
+
+// The obstacle stage of the demo's obstacles (a sphere of radius 0.25 m touching the middle
+// of the sheet, the ground 0.3 m below; thickness 5 mm) on the 4847-triangle sheet, ns per
+// vertex (one thread, CPU time, best of 5): the scalar response on every free vertex
+// (resolve_collisions), and the step's way, the near-test and the scalar response on the
+// vertices it selects (collide_block).
+void compare_obstacles(bool quick) {
+  Setup s = make_setup(4847);
+  Obstacle sphere, ground;
+  sphere.kind = ObstacleKind::Sphere;
+  sphere.center = Vec3(0.0, 0.0, -0.25 + 0.002);
+  sphere.radius = 0.25;
+  ground.kind = ObstacleKind::Plane;
+  ground.center = Vec3(0.0, 0.0, -0.3);
+  for (Obstacle* o : {&sphere, &ground}) o->thickness = 0.005;
+  s.model.obstacles = {sphere, ground};
+  s.model.pinned.assign(s.state.x.size(), 0);
+  std::vector<PlacedObstacle> placed;
+  for (const Obstacle& o : s.model.obstacles) placed.push_back(place_obstacle(o, 0.0));
+  const int n = s.model.num_vertices();
+  const int calls = quick ? 2000 : 20000;
+  const double scalar = best_seconds_per_call(
+      [&] { resolve_collisions(s.model, 0.0, s.state.x, s.state.v); }, calls, 5);
+  const double simd = best_seconds_per_call(
+      [&] {
+        for (int first = 0; first < n; first += ForcePlan::kVerticesPerBlock) {
+          collide_block(placed, kExplicitResponse, s.model.pinned, first,
+                        std::min(n, first + ForcePlan::kVerticesPerBlock), s.state.x,
+                        s.state.v);
+        }
+      },
+      calls, 5);
+  std::printf("\nobstacle stage, %d vertices (sphere and ground), ns per vertex: scalar %.2f, "
+              "near-test %.2f (%.1fx)\n",
+              n, scalar * 1e9 / n, simd * 1e9 / n, scalar / simd);
 }
 
 // A whole explicit step of a 1,000,000-triangle sheet (regular mesh, gravity, air damping,
@@ -257,6 +296,7 @@ int main(int argc, char** argv) {
     }
     std::printf("\n");
   }
+  compare_obstacles(quick);
   compare_kernels(quick);
   if (million) million_step();
   std::printf("\nmemory bandwidth (triad): %.1f GB/s on 1 thread, %.1f GB/s on 2\n",
