@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "mesh/format.h"
+#include "mesh/graded_disk.h"
 #include "mesh/irregular.h"
 
 namespace tissu {
@@ -26,6 +27,16 @@ void require_count(const char* what, int triangles, int minimum) {
     throw InputError(std::string(what) + ": triangles must be between " +
                      std::to_string(minimum) + " and " + std::to_string(kMaxTriangles) +
                      ", got " + std::to_string(triangles));
+  }
+}
+
+// A disk with an inner circle: a radius, at least two rings' triangles, 0 < inner < radius.
+void require_disk(double radius, int triangles, double inner_radius) {
+  require_length("generate_disk", "radius", radius);
+  require_count("generate_disk", triangles, 24);  // two rings at least
+  if (!(inner_radius > 0.0 && inner_radius < radius)) {
+    throw InputError("generate_disk: inner_radius must be between 0 and the radius " +
+                     format_short(radius) + " m, got " + format_short(inner_radius));
   }
 }
 
@@ -214,14 +225,31 @@ TriMesh generate_disk(double radius, int triangles, bool irregular, uint64_t see
 
 TriMesh generate_disk(double radius, int triangles, bool irregular, uint64_t seed,
                       double inner_radius) {
-  require_length("generate_disk", "radius", radius);
-  require_count("generate_disk", triangles, 24);  // two rings at least
-  if (!(inner_radius > 0.0 && inner_radius < radius)) {
-    throw InputError("generate_disk: inner_radius must be between 0 and the radius " +
-                     format_short(radius) + " m, got " + format_short(inner_radius));
-  }
+  require_disk(radius, triangles, inner_radius);
   return irregular ? irregular_disk(radius, triangles, seed, inner_radius)
                    : regular_disk(radius, triangles, inner_radius);
+}
+
+TriMesh generate_disk(double radius, int triangles, uint64_t seed, double inner_radius,
+                      const DiskGrading& grading) {
+  require_disk(radius, triangles, inner_radius);
+  const DiskGrading& g = grading;
+  if (!(g.inner >= 0.0 && g.outer > g.inner && g.outer <= radius)) {
+    throw InputError("generate_disk: the graded band must satisfy 0 <= inner < outer <= the "
+                     "radius " + format_short(radius) + " m, got " + format_short(g.inner) +
+                     " m to " + format_short(g.outer) + " m");
+  }
+  if (!(g.fine_ratio > 0.0 && g.fine_ratio <= 1.0)) {
+    throw InputError("generate_disk: fine_ratio must be in (0, 1], got " +
+                     format_short(g.fine_ratio));
+  }
+  if (!(g.transition >= 0.0 && g.transition <= radius)) {
+    throw InputError("generate_disk: transition must be between 0 and the radius " +
+                     format_short(radius) + " m, got " + format_short(g.transition));
+  }
+  Vec2List points = graded_disk_points(radius, triangles, seed, inner_radius, g);
+  TriList tris = delaunay_triangles(points);
+  return flat_mesh(std::move(points), std::move(tris));
 }
 
 TriMesh generate_sliver_rectangle(double width, double height, int triangles) {

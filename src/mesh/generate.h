@@ -31,6 +31,25 @@ TriMesh generate_disk(double radius, int triangles, bool irregular, uint64_t see
 TriMesh generate_disk(double radius, int triangles, bool irregular, uint64_t seed,
                       double inner_radius);
 
+// A band of a disk meshed finer: edges `fine_ratio` times those elsewhere at distances
+// `inner`..`outer` (m) from the centre, changing linearly in the distance over
+// `transition` (m) on either side of the band.
+struct DiskGrading {
+  double inner = 0.0;       // m
+  double outer = 0.0;       // m, above inner
+  double fine_ratio = 1.0;  // in (0, 1]
+  double transition = 0.0;  // m, >= 0
+};
+
+// The disk with a circle of vertices at `inner_radius` as above, graded by `grading`:
+// concentric rings of vertices spaced by the local edge (sqrt(3)/2 of it apart, 2 pi r /
+// edge vertices on a ring of radius r), each ring turned by a seeded random angle, and
+// their Delaunay triangulation. The edge elsewhere is chosen for about `triangles`
+// triangles (within 1% for Cusick's band, 3% for a band reaching the rim). Used for
+// Cusick's drape (docs/bending.md).
+TriMesh generate_disk(double radius, int triangles, uint64_t seed, double inner_radius,
+                      const DiskGrading& grading);
+
 // Degenerate shapes for stability tests, cut into a regular (union jack) rectangle mesh.
 constexpr double kSliverWidthRatio = 0.01;  // the thin column's width / a normal column's
 constexpr double kCapHeightRatio = 1e-3;    // a cap's area / its area in the regular grid

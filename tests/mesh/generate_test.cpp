@@ -10,6 +10,7 @@
 #include <iostream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "mesh/quality.h"
 #include "mesh/validate.h"
@@ -45,6 +46,27 @@ void expect_flat_and_uv_is_xy(const TriMesh& mesh) {
 
 void expect_all_counter_clockwise(const TriMesh& mesh) {
   for (const Tri& t : mesh.triangles) ASSERT_GT(uv_area(mesh, t), 0.0);
+}
+
+// Consecutive points of a circle (by angle) share an edge: the circle is a polygon of
+// mesh edges, so the clamped part is exactly the triangles inside it.
+void expect_circle_of_edges(const TriMesh& mesh, std::vector<int> on_circle) {
+  std::sort(on_circle.begin(), on_circle.end(), [&](int a, int b) {
+    return std::atan2(mesh.rest_uv[a].y(), mesh.rest_uv[a].x()) <
+           std::atan2(mesh.rest_uv[b].y(), mesh.rest_uv[b].x());
+  });
+  std::set<std::pair<int, int>> edges;
+  for (const Tri& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      edges.emplace(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]));
+    }
+  }
+  int joined = 0;
+  for (size_t k = 0; k < on_circle.size(); ++k) {
+    const int a = on_circle[k], b = on_circle[(k + 1) % on_circle.size()];
+    joined += edges.count({std::min(a, b), std::max(a, b)}) ? 1 : 0;
+  }
+  EXPECT_EQ(joined, static_cast<int>(on_circle.size()));
 }
 
 class meshGenerateCounts : public testing::TestWithParam<std::tuple<int, bool>> {};
@@ -201,24 +223,7 @@ TEST(meshGenerate, DiskWithAnInnerCircle) {
       // Spaced like the mesh's edges: about 2 pi inner / spacing points.
       const double spacing = std::sqrt(4.0 * kPi * radius * radius / (std::sqrt(3.0) * count));
       EXPECT_NEAR(on_circle.size(), 2 * kPi * inner / spacing, 0.25 * 2 * kPi * inner / spacing);
-      // Consecutive points of the circle (by angle) share an edge: the circle is a polygon
-      // of mesh edges, so the clamped part is exactly the triangles inside it.
-      std::sort(on_circle.begin(), on_circle.end(), [&](int a, int b) {
-        return std::atan2(mesh.rest_uv[a].y(), mesh.rest_uv[a].x()) <
-               std::atan2(mesh.rest_uv[b].y(), mesh.rest_uv[b].x());
-      });
-      std::set<std::pair<int, int>> edges;
-      for (const Tri& t : mesh.triangles) {
-        for (int k = 0; k < 3; ++k) {
-          edges.emplace(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]));
-        }
-      }
-      int joined = 0;
-      for (size_t k = 0; k < on_circle.size(); ++k) {
-        const int a = on_circle[k], b = on_circle[(k + 1) % on_circle.size()];
-        joined += edges.count({std::min(a, b), std::max(a, b)}) ? 1 : 0;
-      }
-      EXPECT_EQ(joined, static_cast<int>(on_circle.size()));
+      expect_circle_of_edges(mesh, on_circle);
       const MeshQuality q = measure_quality(mesh);
       EXPECT_GT(q.total_area, 0.99 * kPi * radius * radius);
       EXPECT_GT(q.min_angle_deg, 25.0);
@@ -253,6 +258,47 @@ TEST(meshGenerate, SliverRectangleHasNeedlesAndNearZeroAreaCaps) {
   EXPECT_GT(q.max_aspect_ratio, 500.0);
 }
 
+// Cusick's graded disc: edges half as long over the band beyond the support's circle
+// (9 to 11.5 cm, blending over 1.5 cm), the count of triangles hit, the support's circle a
+// polygon of edges, and well-shaped triangles through the transitions.
+TEST(meshGenerate, GradedDisk) {
+  const double radius = 0.15, inner = 0.09;  // m
+  const DiskGrading grading{0.09, 0.115, 0.5, 0.015};
+  for (int count : {3000, 12000}) {
+    const TriMesh mesh = generate_disk(radius, count, 1, inner, grading);
+    SCOPED_TRACE(std::to_string(count));
+    expect_flat_and_uv_is_xy(mesh);
+    expect_all_counter_clockwise(mesh);
+    expect_valid_without_warnings(mesh);
+    EXPECT_NEAR(static_cast<double>(mesh.triangles.size()) / count, 1.0, 0.01);
+    std::vector<int> on_circle;
+    for (int i = 0; i < static_cast<int>(mesh.rest_uv.size()); ++i) {
+      if (std::abs(mesh.rest_uv[i].norm() - inner) < 1e-12) on_circle.push_back(i);
+    }
+    expect_circle_of_edges(mesh, on_circle);
+    // Mean edge in the band and away from it (triangles by their centroid's distance).
+    double band = 0, far = 0;
+    int in_band = 0, in_far = 0;
+    for (const Tri& t : mesh.triangles) {
+      const Vec2 c = (mesh.rest_uv[t[0]] + mesh.rest_uv[t[1]] + mesh.rest_uv[t[2]]) / 3.0;
+      double e = 0;
+      for (int k = 0; k < 3; ++k) e += (mesh.rest_uv[t[k]] - mesh.rest_uv[t[(k + 1) % 3]]).norm() / 3;
+      if (c.norm() > 0.092 && c.norm() < 0.113) band += e, ++in_band;
+      if (c.norm() > 0.135 || c.norm() < 0.07) far += e, ++in_far;
+    }
+    const double ratio = (band / in_band) / (far / in_far);
+    const MeshQuality q = measure_quality(mesh);
+    std::printf("  %d triangles: %zu on the circle, edge ratio %.3f, smallest angle %.1f deg, "
+                "largest aspect %.2f\n",
+                q.triangle_count, on_circle.size(), ratio, q.min_angle_deg, q.max_aspect_ratio);
+    EXPECT_NEAR(ratio, 0.5, 0.05);
+    EXPECT_GT(q.total_area, 0.99 * kPi * radius * radius);
+    EXPECT_GT(q.min_angle_deg, 25.0);
+  }
+  EXPECT_TRUE(same_mesh(generate_disk(radius, 3000, 1, inner, grading),
+                        generate_disk(radius, 3000, 1, inner, grading)));
+}
+
 TEST(meshGenerate, RejectsBadParameters) {
   using test::input_error_of;
   EXPECT_EQ(input_error_of([] { generate_rectangle(-1, 1, 100, false, 0); }),
@@ -262,6 +308,11 @@ TEST(meshGenerate, RejectsBadParameters) {
   EXPECT_NE(input_error_of([] { generate_disk(0, 100, true, 0); }), "");
   EXPECT_EQ(input_error_of([] { generate_disk(0.15, 100, true, 0, 0.15); }),
             "generate_disk: inner_radius must be between 0 and the radius 0.15 m, got 0.15");
+  EXPECT_EQ(input_error_of([] { generate_disk(0.15, 3000, 0, 0.09, {0.09, 0.2, 0.5, 0.01}); }),
+            "generate_disk: the graded band must satisfy 0 <= inner < outer <= the radius "
+            "0.15 m, got 0.09 m to 0.2 m");
+  EXPECT_NE(input_error_of([] { generate_disk(0.15, 3000, 0, 0.09, {0.09, 0.1, 0.0, 0.01}); }),
+            "");
   EXPECT_NE(input_error_of([] { generate_sliver_rectangle(1, 1, 50); }), "");
 }
 
