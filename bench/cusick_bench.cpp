@@ -3,12 +3,17 @@
 // refinement (docs/bending.md, "Cusick's drape test"). One run per call:
 //
 //   tissu_cusick_bench TRIANGLES [--no-clamp] [--shear F] [--bending F] [--strict-rest]
-//                      [--trace STEPS] [--resample]
+//                      [--trace STEPS] [--resample] [--graded RATIO] [--band M]
+//                      [--turn RAD]
 //
 // --no-clamp     the support's triangles are not a clamp in the bending model (pins only)
 // --shear F      shear stiffness times F;  --bending F  B times F
 // --strict-rest  at rest below 0.01 mm/s for 1 s (the tests: 1 mm/s for 0.2 s), 6 s at most
 // --trace STEPS  prints DC and the kinetic energy every STEPS steps
+// --graded RATIO  the graded disc of the tests (cusick.h, cusick_grading), edges RATIO
+//                times the others just beyond the support's edge
+// --band M      with --graded (given before): the fine band ends M from the centre
+// --turn RAD     the mesh turned by RAD about the vertical axis
 // --resample     samples the drape at rest on the coarser disc meshes (1500 triangles and
 //                up, same seed) and prints their bending energy of it by distance from
 //                the centre
@@ -68,7 +73,7 @@ std::vector<double> energy_by_radius(const BendingModel& m, const TriMesh& mesh,
 }
 
 void resample(const testing::DrapeSetup& s, const testing::DrapeResult& r) {
-  const TriMesh fine = generate_disk(s.radius, s.triangles, s.irregular, s.seed, s.support_radius);
+  const TriMesh fine = testing::drape_mesh(s);
   const std::vector<double> radii = {0.09, 0.095, 0.10, 0.11, 0.12, 0.13, 0.14, 0.1501};  // m
   std::printf("bending energy (J) by distance from the centre, bins edged at (m):");
   for (double e : radii) std::printf(" %.3f", e);
@@ -118,6 +123,12 @@ int run(int argc, char** argv) {
       s.rest_time = 1.0;
     } else if (a == "--trace" && has_value) {
       s.trace_every = std::atoi(argv[++i]);
+    } else if (a == "--graded" && has_value) {
+      s.grading = testing::cusick_grading(s, std::atof(argv[++i]));
+    } else if (a == "--band" && has_value && s.grading) {
+      s.grading->outer = std::atof(argv[++i]);
+    } else if (a == "--turn" && has_value) {
+      s.mesh_angle = std::atof(argv[++i]);
     } else if (a == "--resample") {
       resampled = true;
     } else {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,7 @@ struct DrapeSetup {
   double support_radius = 0.09;  // m: the support disc, 18 cm across
   int triangles = 1500;          // of the fabric disc's mesh
   bool irregular = true;
+  std::optional<DiskGrading> grading;  // a graded disc (generate.h; `irregular` unused)
   uint64_t seed = 1;
   double mesh_angle = 0.0;  // rad: the mesh turned about the vertical axis (the fabric's
                             // weft and warp, the start and gravity stay where they are)
@@ -180,12 +182,25 @@ inline double drape_coefficient(const DrapeSetup& s, const Vec3List& x, const Tr
   return (projected_area(x, triangles, s.raster_cell) - support) / (disc - support);
 }
 
+// Cusick's grading: edges `fine_ratio` times the others over the 2.5 cm beyond the
+// support's edge, where the folds rise out of the clamp (docs/bending.md), blending into
+// the coarse edge over 1.5 cm on either side.
+inline DiskGrading cusick_grading(const DrapeSetup& s, double fine_ratio) {
+  return DiskGrading{s.support_radius, s.support_radius + 0.025, fine_ratio, 0.015};
+}
+
+// The fabric disc's mesh, flat, with a circle of vertices at the support's edge.
+inline TriMesh drape_mesh(const DrapeSetup& s) {
+  if (s.grading) return generate_disk(s.radius, s.triangles, s.seed, s.support_radius, *s.grading);
+  return generate_disk(s.radius, s.triangles, s.irregular, s.seed, s.support_radius);
+}
+
 // Lays the disc flat on the support (vertices within the support radius pinned: the
 // support and its clamp), releases it under gravity and runs backward Euler with air
 // damping until it is at rest.
 inline DrapeResult run_cusick(const DrapeSetup& s) {
   const auto wall_start = std::chrono::steady_clock::now();
-  TriMesh mesh = generate_disk(s.radius, s.triangles, s.irregular, s.seed, s.support_radius);
+  TriMesh mesh = drape_mesh(s);
   const double c = std::cos(s.mesh_angle), sn = std::sin(s.mesh_angle);
   Model model;
   State state;

@@ -30,7 +30,8 @@ DrapeResult run(const char* what, const DrapeSetup& s) {
       "  %s: %s, %d triangles (%s, mean edge %.1f mm), mesh turned %.2f rad: DC %.4f, %d "
       "folds, at rest after %.2f s (%lld steps, largest force %.1e of the weight), energy "
       "%.3e J bending, %.3e J membrane, %.1f s\n",
-      what, s.material.name.c_str(), r.triangles, s.irregular ? "irregular" : "rings",
+      what, s.material.name.c_str(), r.triangles,
+      s.grading ? "graded" : s.irregular ? "irregular" : "rings",
       1e3 * r.mean_edge, s.mesh_angle, r.coefficient, r.folds, r.time, r.steps,
       r.force_residual, r.bending_energy, r.membrane_energy, r.seconds);
   std::fflush(stdout);
@@ -137,6 +138,19 @@ TEST(CusickDrape, DISABLED_HalvingTheEdgeChangesTheCoefficientLittle) {
   const double coarse = run("coarse", nine_fold_drape(cotton, 3000)).coefficient;
   const double fine = run("fine", nine_fold_drape(cotton, 12000)).coefficient;
   EXPECT_NEAR(fine, coarse, kTolerance);
+}
+
+// Not met either: discs graded finer over the 2.5 cm beyond the support's edge
+// (cusick_grading, edges half the others there), same triangle counts, 3000 -> 12000:
+// 0.554 -> 0.611, more than on uniform discs. The coefficient follows the edge at the
+// support's edge, falling about linearly with it, down to 2.1 mm at least
+// (docs/bending.md, "Graded discs"). About two minutes.
+TEST(CusickDrape, DISABLED_GradedDiscUnderRefinement) {
+  const Material cotton = isotropic_preset("cotton");
+  DrapeSetup coarse = nine_fold_drape(cotton, 3000), fine = nine_fold_drape(cotton, 12000);
+  coarse.grading = testing::cusick_grading(coarse, 0.5);
+  fine.grading = testing::cusick_grading(fine, 0.5);
+  EXPECT_NEAR(run("fine", fine).coefficient, run("coarse", coarse).coefficient, kTolerance);
 }
 
 // The biphasic membrane (Material::compression_ratio, physics/biphasic.h) does not make
