@@ -1,4 +1,4 @@
-// Basic vector types shared by every module. Units are SI throughout.
+// Basic vector types and constants shared by every module. Units are SI throughout.
 #pragma once
 
 #include <Eigen/Dense>
@@ -14,5 +14,7 @@ using Tri = Eigen::Vector3i;  // three vertex ids of a triangle
 using Vec3List = std::vector<Vec3>;
 using Vec2List = std::vector<Vec2>;
 using TriList = std::vector<Tri>;
+
+constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace tissu

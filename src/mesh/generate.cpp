@@ -12,7 +12,6 @@
 namespace tissu {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxTriangles = 5'000'000;
 
 void require_length(const char* what, const char* name, double value) {

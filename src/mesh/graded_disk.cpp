@@ -9,7 +9,6 @@
 namespace tissu {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kRowHeight = 0.86602540378443865;  // sqrt(3) / 2: equilateral rows
 constexpr int kSamples = 4000;                        // per segment, to invert the ring index
 

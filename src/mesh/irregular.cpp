@@ -20,7 +20,6 @@ using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<int, Kernel>;
 using DataStructure = CGAL::Triangulation_data_structure_2<VertexBase>;
 using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, DataStructure>;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kCandidatesPerPoint = 30;  // Bridson's k
 constexpr int kOdtPasses = 4;
 constexpr int kLloydPasses = 8;

@@ -8,8 +8,6 @@
 namespace tissu {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 struct Edge {
   int lo, hi;  // sorted ids
   int from, to;  // as in the triangle

@@ -9,7 +9,6 @@ namespace tissu {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMargin = 1.12;  // framing leaves ~6% of the view free on each side
 
 // From the target towards the eye: in front (-y), to the right (+x) and above.

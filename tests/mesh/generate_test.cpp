@@ -19,8 +19,6 @@
 namespace tissu {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Counts used in the paper (961, 990, 4847) and the largest we need.
 const int kCounts[] = {961, 990, 4847, 50000};
 

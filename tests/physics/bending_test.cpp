@@ -18,8 +18,6 @@
 namespace tissu {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 struct Sheet {
   TriList triangles;
   Vec2List uv;           // m

@@ -20,7 +20,6 @@ namespace {
 using testing::CantileverSetup;
 using testing::StripMesh;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = 180.0 / kPi;
 
 TEST(Elastica, PeirceChordAngleAtTwiceTheBendingLength) {

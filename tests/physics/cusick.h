@@ -23,8 +23,6 @@
 
 namespace tissu::testing {
 
-constexpr double kCusickPi = 3.14159265358979323846;
-
 // Area (m^2) of the union of the triangles' shadows on the x-y plane: the cells of a
 // square grid of side `cell` (m) whose centres lie in some shadow, counted once. A cell
 // that the outline crosses is counted whole or not at all, so the error is at most the
@@ -177,8 +175,8 @@ inline DrapeSetup nine_fold_drape(const Material& material, int triangles) {
 
 // Drape coefficient of the shape x of the disc meshed by `triangles`.
 inline double drape_coefficient(const DrapeSetup& s, const Vec3List& x, const TriList& triangles) {
-  const double support = kCusickPi * s.support_radius * s.support_radius;
-  const double disc = kCusickPi * s.radius * s.radius;
+  const double support = kPi * s.support_radius * s.support_radius;
+  const double disc = kPi * s.radius * s.radius;
   return (projected_area(x, triangles, s.raster_cell) - support) / (disc - support);
 }
 

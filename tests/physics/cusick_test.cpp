@@ -18,7 +18,6 @@ namespace {
 using testing::DrapeResult;
 using testing::DrapeSetup;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTolerance = 0.02;  // drape coefficient, the 2 points
 
 using testing::isotropic_preset;
