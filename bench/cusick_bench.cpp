@@ -4,7 +4,7 @@
 //
 //   tissu_cusick_bench TRIANGLES [--no-clamp] [--shear F] [--bending F] [--strict-rest]
 //                      [--trace STEPS] [--resample] [--graded RATIO] [--band M]
-//                      [--turn RAD]
+//                      [--turn RAD] [--membrane F] [--ring-membrane F]
 //
 // --no-clamp     the support's triangles are not a clamp in the bending model (pins only)
 // --shear F      shear stiffness times F;  --bending F  B times F
@@ -14,6 +14,8 @@
 //                times the others just beyond the support's edge
 // --band M      with --graded (given before): the fine band ends M from the centre
 // --turn RAD     the mesh turned by RAD about the vertical axis
+// --membrane F   tensile and shear stiffness times F
+// --ring-membrane F  membrane stiffness times F in the triangles with pinned and free corners
 // --resample     samples the drape at rest on the coarser disc meshes (1500 triangles and
 //                up, same seed) and prints their bending energy of it by distance from
 //                the centre
@@ -129,6 +131,13 @@ int run(int argc, char** argv) {
       s.grading->outer = std::atof(argv[++i]);
     } else if (a == "--turn" && has_value) {
       s.mesh_angle = std::atof(argv[++i]);
+    } else if (a == "--membrane" && has_value) {
+      const double f = std::atof(argv[++i]);
+      for (double* c : {&s.material.weft, &s.material.warp, &s.material.coupling, &s.material.shear}) {
+        *c *= f;
+      }
+    } else if (a == "--ring-membrane" && has_value) {
+      s.clamp_ring_membrane = std::atof(argv[++i]);
     } else if (a == "--resample") {
       resampled = true;
     } else {

@@ -18,6 +18,7 @@
 #include "physics/forces.h"
 #include "physics/implicit.h"
 #include "physics/materials.h"
+#include "physics/membrane_layout.h"
 #include "physics/model.h"
 #include "physics/step.h"
 
@@ -112,6 +113,9 @@ struct DrapeSetup {
   double raster_cell = 2e-4;    // m: grid of projected_area
   double newton_tolerance = 1e-8;  // of each backward Euler step
   bool clamp = true;  // the support's triangles are a clamp in the bending model (bending.h)
+  // Membrane stiffness times this in the first ring outside the clamp (triangles with
+  // pinned and free corners): an experiment on locking at the support's edge.
+  double clamp_ring_membrane = 1.0;
   int trace_every = 0;  // > 0: prints t, DC and the kinetic energy every so many steps
 };
 
@@ -224,6 +228,16 @@ inline DrapeResult run_cusick(const DrapeSetup& s) {
     model.pinned[i] = model.rest_uv[i].norm() <= s.support_radius * (1.0 + 1e-9) ? 1 : 0;
   }
   precompute_rest(model);
+  if (s.clamp_ring_membrane != 1.0) {
+    // The membrane weighs each triangle by its rest area; the masses are already lumped.
+    for (int t = 0; t < model.num_triangles(); ++t) {
+      const Tri& tri = model.triangles[t];
+      const int pins = model.pinned[tri[0]] + model.pinned[tri[1]] + model.pinned[tri[2]];
+      if (pins > 0 && pins < 3) model.rest[t].area *= s.clamp_ring_membrane;
+    }
+    model.membrane_layout = std::make_shared<const MembraneLayout>(
+        build_membrane_layout(model.triangles, model.rest, model.mesh_id));
+  }
   model.bending = std::make_shared<const BendingModel>(
       build_bending(model.triangles, model.rest_uv, s.material.bending, s.material.bending_warp,
                     s.clamp ? model.pinned : std::vector<uint8_t>{}));
