@@ -34,6 +34,8 @@
 #include "physics/obstacle_response.h"
 #include "physics/step_scratch.h"
 #include "physics/step.h"
+#include "physics/vertex_pass.h"
+#include "physics/vertex_pass_simd.h"
 #include "step_setup.h"
 
 using namespace tissu;
@@ -137,6 +139,22 @@ void compare_obstacles(bool quick) {
   std::printf("\nobstacle stage, %d vertices (sphere and ground), ns per vertex: scalar %.2f, "
               "near-test %.2f (%.1fx)\n",
               n, scalar * 1e9 / n, simd * 1e9 / n, scalar / simd);
+  // The divergence check that follows the obstacle stage in a step, per vertex block.
+  auto check_blocks = [&](bool vectorised) {
+    for (int first = 0; first < n; first += ForcePlan::kVerticesPerBlock) {
+      const int end = std::min(n, first + ForcePlan::kVerticesPerBlock);
+      BlockCheck check;
+      if (vectorised) {
+        check_block_simd(s.state.x, s.state.v, first, end, check);
+      } else {
+        for (int i = first; i < end; ++i) check_vertex(i, s.state.x[i], s.state.v[i], check);
+      }
+    }
+  };
+  const double check_scalar = best_seconds_per_call([&] { check_blocks(false); }, calls, 5);
+  const double check_simd = best_seconds_per_call([&] { check_blocks(true); }, calls, 5);
+  std::printf("divergence check after it, ns per vertex: scalar %.2f, vectorised %.2f (%.1fx)\n",
+              check_scalar * 1e9 / n, check_simd * 1e9 / n, check_scalar / check_simd);
 }
 
 // A whole explicit step of a 1,000,000-triangle sheet (regular mesh, gravity, air damping,

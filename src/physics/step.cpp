@@ -152,6 +152,10 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
       collide_block(scratch.placed, response, model.pinned, first, end, state.x, state.v);
     }
     if (fused_check) return;
+    if (fused) {
+      check_block_simd(state.x, state.v, first, end, scratch.checks[block]);
+      return;
+    }
     for (int i = first; i < end; ++i) {
       check_vertex(i, state.x[i], state.v[i], scratch.checks[block]);
     }

@@ -46,11 +46,73 @@ namespace tissu {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+// The divergence check (check_vertex) N vertices at a time: per lane the largest squared
+// speed and the first vertex that has it, merged into the block's findings at the end, so
+// the findings are check_vertex's in vertex order.
+class LaneCheck {
+ public:
+  using D = hn::ScalableTag<double>;
+  explicit LaneCheck(BlockCheck *check)
+      : check_(check), checking_(check != nullptr && check->first_bad < 0) {}
+
+  // Vertices i .. i + N - 1 with positions x0, x1, x2 (m) and velocities v0, v1, v2
+  // (m/s) of xs and vs: a non-finite one ends the lanes' work and the group is checked
+  // vertex by vertex, as is every vertex after it.
+  void Group(int i, hn::Vec<D> x0, hn::Vec<D> x1, hn::Vec<D> x2, hn::Vec<D> v0,
+             hn::Vec<D> v1, hn::Vec<D> v2, const Vec3List &xs, const Vec3List &vs) {
+    if (!checking_)
+      return;
+    const D d;
+    const auto finite = hn::And(
+        hn::And(hn::And(hn::IsFinite(x0), hn::IsFinite(x1)), hn::IsFinite(x2)),
+        hn::And(hn::And(hn::IsFinite(v0), hn::IsFinite(v1)), hn::IsFinite(v2)));
+    if (HWY_LIKELY(hn::AllTrue(d, finite))) {
+      const auto s2 =
+          hn::Add(hn::Add(hn::Mul(v0, v0), hn::Mul(v1, v1)), hn::Mul(v2, v2));
+      const auto faster = hn::Gt(s2, best_);
+      best_ = hn::IfThenElse(faster, s2, best_);
+      best_index_ = hn::IfThenElse(faster, hn::Iota(d, static_cast<double>(i)),
+                                   best_index_);
+      return;
+    }
+    Merge();
+    for (int l = 0; l < static_cast<int>(hn::Lanes(d)); ++l)
+      check_vertex(i + l, xs[i + l], vs[i + l], *check_);
+    checking_ = false;
+  }
+
+  // The lanes' findings: the largest speed, at the first vertex that has it.
+  void Merge() {
+    if (!checking_)
+      return;
+    const D d;
+    constexpr size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+    HWY_ALIGN double top[kMaxLanes], index[kMaxLanes];
+    hn::Store(best_, d, top);
+    hn::Store(best_index_, d, index);
+    for (size_t l = 0; l < hn::Lanes(d); ++l) {
+      if (index[l] < 0)
+        continue;
+      const bool first_of_top =
+          top[l] == check_->top_speed2 && index[l] < check_->fastest;
+      if (top[l] > check_->top_speed2 || first_of_top) {
+        check_->top_speed2 = top[l];
+        check_->fastest = static_cast<int>(index[l]);
+      }
+    }
+  }
+
+ private:
+  BlockCheck *check_;
+  bool checking_;
+  hn::Vec<D> best_ = hn::Zero(D());          // m^2/s^2
+  hn::Vec<D> best_index_ = hn::Set(D(), -1.0);
+};
+
 void FinishBlock(const VertexPassArgs &k) {
   using D = hn::ScalableTag<double>;
   const D d;
   const int N = static_cast<int>(hn::Lanes(d));
-  constexpr size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
   const ForcePlan &plan = *k.plan;
   const int first = plan.block_begin(k.block), end = plan.block_end(k.block);
   const int n3 = 3 * (end - first);
@@ -83,9 +145,7 @@ void FinishBlock(const VertexPassArgs &k) {
   const auto h = hn::Set(d, k.h), two = hn::Set(d, 2.0), cd = hn::Set(d, k.c);
   const auto gx = hn::Set(d, k.g[0]), gy = hn::Set(d, k.g[1]),
              gz = hn::Set(d, k.g[2]);
-  auto best = hn::Zero(d); // per lane: the largest squared speed, m^2/s^2
-  auto best_index = hn::Set(d, -1.0); // and its first vertex
-  bool checking = k.check != nullptr && k.check->first_bad < 0;
+  LaneCheck check(k.check);
   const bool symplectic = k.integrator != Integrator::ExplicitEuler;
   int i = first;
   for (; i + N <= end; i += N) {
@@ -131,53 +191,9 @@ void FinishBlock(const VertexPassArgs &k) {
     }
     hn::StoreInterleaved3(x0, x1, x2, d, xi);
     hn::StoreInterleaved3(v0, v1, v2, d, vi);
-    if (!checking)
-      continue;
-    const auto finite = hn::And(
-        hn::And(hn::And(hn::IsFinite(x0), hn::IsFinite(x1)), hn::IsFinite(x2)),
-        hn::And(hn::And(hn::IsFinite(v0), hn::IsFinite(v1)), hn::IsFinite(v2)));
-    if (HWY_LIKELY(hn::AllTrue(d, finite))) {
-      const auto s2 =
-          hn::Add(hn::Add(hn::Mul(v0, v0), hn::Mul(v1, v1)), hn::Mul(v2, v2));
-      const auto faster = hn::Gt(s2, best);
-      best = hn::IfThenElse(faster, s2, best);
-      best_index = hn::IfThenElse(faster, hn::Iota(d, static_cast<double>(i)),
-                                  best_index);
-      continue;
-    }
-    // A non-finite vertex: the lanes' findings so far, then this group vertex
-    // by vertex.
-    HWY_ALIGN double top[kMaxLanes], index[kMaxLanes];
-    hn::Store(best, d, top);
-    hn::Store(best_index, d, index);
-    for (int l = 0; l < N; ++l) {
-      const bool first_of_top = top[l] == k.check->top_speed2 &&
-                                index[l] >= 0 && index[l] < k.check->fastest;
-      if (top[l] > k.check->top_speed2 || first_of_top) {
-        k.check->top_speed2 = top[l];
-        k.check->fastest = static_cast<int>(index[l]);
-      }
-    }
-    for (int l = 0; l < N; ++l)
-      check_vertex(i + l, (*k.xs)[i + l], (*k.vs)[i + l], *k.check);
-    checking = false;
+    check.Group(i, x0, x1, x2, v0, v1, v2, *k.xs, *k.vs);
   }
-  // The lanes' findings: the largest speed, at the first vertex that has it.
-  if (checking) {
-    HWY_ALIGN double top[kMaxLanes], index[kMaxLanes];
-    hn::Store(best, d, top);
-    hn::Store(best_index, d, index);
-    for (int l = 0; l < N; ++l) {
-      if (index[l] < 0)
-        continue;
-      const bool first_of_top =
-          top[l] == k.check->top_speed2 && index[l] < k.check->fastest;
-      if (top[l] > k.check->top_speed2 || first_of_top) {
-        k.check->top_speed2 = top[l];
-        k.check->fastest = static_cast<int>(index[l]);
-      }
-    }
-  }
+  check.Merge();
   // The tail (fewer than N vertices, last block only): the scalar stages.
   if (i == end)
     return;
@@ -194,6 +210,24 @@ void FinishBlock(const VertexPassArgs &k) {
     check_vertex(i, (*k.xs)[i], (*k.vs)[i], *k.check);
 }
 
+void CheckBlock(const Vec3List &xs, const Vec3List &vs, int first, int end,
+                BlockCheck *check_out) {
+  using D = hn::ScalableTag<double>;
+  const D d;
+  const int N = static_cast<int>(hn::Lanes(d));
+  LaneCheck check(check_out);
+  int i = first;
+  for (; i + N <= end; i += N) {
+    hn::Vec<D> x0, x1, x2, v0, v1, v2;
+    hn::LoadInterleaved3(d, xs[i].data(), x0, x1, x2);
+    hn::LoadInterleaved3(d, vs[i].data(), v0, v1, v2);
+    check.Group(i, x0, x1, x2, v0, v1, v2, xs, vs);
+  }
+  check.Merge();
+  for (; i < end; ++i)
+    check_vertex(i, xs[i], vs[i], *check_out);
+}
+
 } // namespace HWY_NAMESPACE
 } // namespace tissu
 HWY_AFTER_NAMESPACE();
@@ -202,6 +236,12 @@ HWY_AFTER_NAMESPACE();
 namespace tissu {
 
 HWY_EXPORT(FinishBlock);
+HWY_EXPORT(CheckBlock);
+
+void check_block_simd(const Vec3List &x, const Vec3List &v, int first, int end,
+                      BlockCheck &check) {
+  HWY_DYNAMIC_DISPATCH(CheckBlock)(x, v, first, end, &check);
+}
 
 void finish_block_simd(const Model &model, const ForcePlan &plan, int block,
                        Vec3List &f, Vec3List &x, Vec3List &v,

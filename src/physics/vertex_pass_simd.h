@@ -27,4 +27,10 @@ void finish_block_simd(const Model &model, const ForcePlan &plan, int block,
                        Vec3List &f, Vec3List &x, Vec3List &v,
                        BlockCheck *check);
 
+// The divergence check of vertices [first, end) with positions x (m) and
+// velocities v (m/s), vectorised: the findings of check_vertex on each vertex
+// in order. For blocks whose vertices the obstacles moved after the pass.
+void check_block_simd(const Vec3List &x, const Vec3List &v, int first, int end,
+                      BlockCheck &check);
+
 } // namespace tissu

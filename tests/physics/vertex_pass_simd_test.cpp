@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -235,6 +236,61 @@ TEST(VertexPassSimd, DivergenceCheckAsScalar) {
     expect_same_checks(ref.checks, got.checks);
     EXPECT_EQ(got.checks[1].fastest, speed.isZero() ? -1 : plan.block_begin(1));
   }
+}
+
+// The check alone (check_block_simd, run by the step after the obstacles moved
+// the vertices) against check_vertex on each vertex: ranges of every length
+// modulo the vector width, a non-finite velocity or position after a faster
+// vertex, ties of the top speed and every vertex at rest, on every instruction
+// set the processor runs.
+TEST(VertexPassSimd, BlockCheckAsScalarOnEveryTarget) {
+  const Case c = cases()[0];
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Vec3List &x0 = c.sheet.state.x, &v0 = c.sheet.state.v;
+  struct Variant {
+    std::string name;
+    Vec3List x, v;
+  };
+  std::vector<Variant> variants = {{"moving sheet", x0, v0},
+                                   {"non-finite velocity", x0, v0},
+                                   {"non-finite position", x0, v0},
+                                   {"every vertex as fast", x0,
+                                    Vec3List(v0.size(), Vec3(0.1, -0.2, 0.3))},
+                                   {"every vertex at rest", x0,
+                                    Vec3List(v0.size(), Vec3::Zero())}};
+  for (Variant &variant : {std::ref(variants[1]), std::ref(variants[2])}) {
+    for (int i = 5; i < static_cast<int>(x0.size()); i += 61) {
+      variant.v[i - 2] = Vec3(0.0, 0.0, 70.0); // faster, before the bad vertex
+      if (variant.name == "non-finite velocity") {
+        variant.v[i].y() = inf;
+      } else {
+        variant.x[i].z() = nan;
+      }
+    }
+  }
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  for (const int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    SCOPED_TRACE(hwy::TargetName(target));
+    for (const Variant &variant : variants) {
+      SCOPED_TRACE(variant.name);
+      for (int first = 0; first < 40; first += 3) {
+        for (int length = 0; length < 140; length += 7) {
+          const int end = std::min(static_cast<int>(x0.size()), first + length);
+          BlockCheck ref, got;
+          for (int i = first; i < end; ++i)
+            check_vertex(i, variant.x[i], variant.v[i], ref);
+          check_block_simd(variant.x, variant.v, first, end, got);
+          SCOPED_TRACE("vertices " + std::to_string(first) + " to " +
+                       std::to_string(end));
+          expect_same_checks({ref}, {got});
+        }
+      }
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
 }
 
 // Every instruction set the pass was built for that this processor has: the
