@@ -23,9 +23,10 @@ struct Mp4Options {
   std::string preset = "veryfast";   // x264 speed preset
   std::string tune;                  // x264 tune ("animation", "film", ...); "" = none
   // More x264 settings, "key=value:key=value"; "" = none. Sub-pixel motion refinement 1
-  // instead of veryfast's 2: a fifth less encoder time for 6% larger files of the same PSNR
-  // on the demo (docs/performance.md).
-  std::string x264_params = "subme=1";
+  // instead of veryfast's 2, and no B-frames instead of up to 3: on the demo about half
+  // of plain veryfast's encoder time, for files a quarter larger at a slightly higher PSNR
+  // (docs/video.md, "Encoder settings").
+  std::string x264_params = "subme=1:bframes=0";
   int encoder_threads = 1;           // fixed, so the same frames give the same bytes everywhere
   double keyframe_interval_s = 2.0;  // a seek point at least this often
 };
