@@ -37,20 +37,58 @@ void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& grav
   c.friction_limit = c.friction * mass * approach;
 }
 
-// The sliding velocity of contact c at vertex velocity v: its tangential part relative to
-// the surface, m/s.
-Vec3 sliding_velocity(const VertexContact& c, const Vec3& v) {
-  const Vec3 relative = v - c.surface_velocity;
-  return relative - c.normal.dot(relative) * c.normal;
-}
-
 // f1(y) / y of the smoothed friction (y = sliding speed, m/s), 1/(m/s).
 double friction_ratio(double y) {
   constexpr double eps = kSlidingSpeed;
   return y < eps ? 2.0 / eps - y / (eps * eps) : 1.0 / y;
 }
 
+// The sliding friction of a sliding contact.
+SlidingFriction friction_of(const VertexContact& c) {
+  return SlidingFriction{c.normal, c.surface_velocity, c.friction_limit};
+}
+
+bool has_sliding_friction(const VertexContact& c) {
+  return c.mode == ContactMode::Slide && c.friction_limit != 0.0;
+}
+
 }  // namespace
+
+Vec3 SlidingFriction::sliding(const Vec3& v) const {
+  const Vec3 relative = v - surface_velocity;
+  return relative - normal.dot(relative) * normal;
+}
+
+Vec3 SlidingFriction::impulse(const Vec3& v) const {
+  const Vec3 u = sliding(v);
+  return -(limit * friction_ratio(u.norm())) * u;
+}
+
+double SlidingFriction::potential(const Vec3& v) const {
+  constexpr double eps = kSlidingSpeed;
+  const double y = sliding(v).norm();
+  // f0(y) = y^2 / eps - y^3 / (3 eps^2) below eps, y - eps / 3 above.
+  const double f0 = y < eps ? y * y / eps - y * y * y / (3.0 * eps * eps) : y - eps / 3.0;
+  return limit * f0;
+}
+
+Mat3 SlidingFriction::jacobian(const Vec3& v) const {
+  constexpr double eps = kSlidingSpeed;
+  const Vec3 u = sliding(v);
+  const double y = u.norm();
+  // d(f1(y) u / y)/du = f1/y (P - t t^T) + f1'(y) t t^T on the tangent plane (P its
+  // projector, t = u / y); f1' = 2 / eps - 2 y / eps^2 below eps, 0 above. Both terms
+  // are positive semi-definite.
+  const Mat3 tangent = Mat3::Identity() - normal * normal.transpose();
+  const double ratio = friction_ratio(y);
+  Mat3 block = ratio * tangent;
+  if (y > 0.0) {
+    const Vec3 t = u / y;
+    const double slope = y < eps ? 2.0 / eps - 2.0 * y / (eps * eps) : 0.0;
+    block += (slope - ratio) * (t * t.transpose());
+  }
+  return limit * block;
+}
 
 int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& placed,
                        const Vec3List& x_end, double margin, double remembered_margin,
@@ -132,43 +170,21 @@ void ContactSet::filter(Eigen::VectorXd& y) const {
 
 void ContactSet::add_friction(const Vec3List& v, Eigen::VectorXd& rhs) const {
   for (const VertexContact& c : contacts_) {
-    if (c.mode != ContactMode::Slide || c.friction_limit == 0.0) continue;
-    const Vec3 u = sliding_velocity(c, v[c.vertex]);
-    rhs.segment<3>(3 * c.vertex) -= (c.friction_limit * friction_ratio(u.norm())) * u;
+    if (has_sliding_friction(c)) rhs.segment<3>(3 * c.vertex) += friction_of(c).impulse(v[c.vertex]);
   }
 }
 
 double ContactSet::friction_potential(const Vec3List& v) const {
-  constexpr double eps = kSlidingSpeed;
   double total = 0.0;
   for (const VertexContact& c : contacts_) {
-    if (c.mode != ContactMode::Slide || c.friction_limit == 0.0) continue;
-    const double y = sliding_velocity(c, v[c.vertex]).norm();
-    // f0(y) = y^2 / eps - y^3 / (3 eps^2) below eps, y - eps / 3 above.
-    const double f0 = y < eps ? y * y / eps - y * y * y / (3.0 * eps * eps) : y - eps / 3.0;
-    total += c.friction_limit * f0;
+    if (has_sliding_friction(c)) total += friction_of(c).potential(v[c.vertex]);
   }
   return total;
 }
 
 void ContactSet::add_friction_jacobian(const Vec3List& v, SystemMatrix& system) const {
-  constexpr double eps = kSlidingSpeed;
   for (const VertexContact& c : contacts_) {
-    if (c.mode != ContactMode::Slide || c.friction_limit == 0.0) continue;
-    const Vec3 u = sliding_velocity(c, v[c.vertex]);
-    const double y = u.norm();
-    // d(f1(y) u / y)/du = f1/y (P - t t^T) + f1'(y) t t^T on the tangent plane (P its
-    // projector, t = u / y); f1' = 2 / eps - 2 y / eps^2 below eps, 0 above. Both terms
-    // are positive semi-definite.
-    const Mat3 tangent = Mat3::Identity() - c.normal * c.normal.transpose();
-    const double ratio = friction_ratio(y);
-    Mat3 block = ratio * tangent;
-    if (y > 0.0) {
-      const Vec3 t = u / y;
-      const double slope = y < eps ? 2.0 / eps - 2.0 * y / (eps * eps) : 0.0;
-      block += (slope - ratio) * (t * t.transpose());
-    }
-    system.add_diagonal(c.vertex, c.friction_limit * block);
+    if (has_sliding_friction(c)) system.add_diagonal(c.vertex, friction_of(c).jacobian(v[c.vertex]));
   }
 }
 
@@ -211,7 +227,7 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release)
     // keeps a contact that needs nearly mu J_n from switching mode at every step.
     constexpr double kStickSpeed = (1.0 - 1.0 / M_SQRT2) * kSlidingSpeed;  // f1 = 1/2, m/s
     if (c.mode == ContactMode::Slide &&
-        (c.friction == 0.0 || sliding_velocity(c, v[c.vertex]).norm() >= kStickSpeed)) {
+        (c.friction == 0.0 || friction_of(c).sliding(v[c.vertex]).norm() >= kStickSpeed)) {
       m.mode = ContactMode::Slide;
       m.friction_limit = c.friction * c.normal_impulse;
     }

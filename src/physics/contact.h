@@ -46,6 +46,20 @@ enum class ContactMode : uint8_t { Stick, Slide };
 // Sliding speed below which the friction of a sliding contact falls smoothly to zero, m/s.
 constexpr double kSlidingSpeed = 1e-3;
 
+// Smoothed Coulomb friction of one sliding contact (IPC's lagged friction, Li et al. 2020):
+// F(v) = -limit f1(|u|) u / |u| on the sliding velocity u (v relative to the surface,
+// tangential), f1(y) = 2 y / eps - y^2 / eps^2 below eps = kSlidingSpeed, 1 above.
+struct SlidingFriction {
+  Vec3 normal = Vec3::UnitZ();           // unit normal of the surface
+  Vec3 surface_velocity = Vec3::Zero();  // m/s
+  double limit = 0.0;                    // mu J_n, kg*m/s
+
+  Vec3 sliding(const Vec3& v) const;    // u, m/s
+  Vec3 impulse(const Vec3& v) const;    // F(v), kg*m/s
+  double potential(const Vec3& v) const;  // limit f0(|u|) with f0' = f1, kg*m^2/s^2
+  Mat3 jacobian(const Vec3& v) const;   // -dF/dv, kg (symmetric positive semi-definite)
+};
+
 struct VertexContact {
   int vertex = -1;
   int obstacle = -1;                     // index in Model::obstacles

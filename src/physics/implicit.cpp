@@ -5,6 +5,7 @@
 #include <ctime>
 #include <utility>
 
+#include "physics/barrier_contact.h"
 #include "physics/bending.h"
 #include "physics/cloth_contact.h"
 #include "physics/contact.h"
@@ -43,7 +44,8 @@ struct ImplicitSolver {
   Vec3List x_substep, v_substep;  // (V) start of the substep being judged, m and m/s
 
   ContactSet contacts;
-  std::vector<PlacedObstacle> placed;  // obstacles at the end of the step
+  BarrierContact barrier;              // the barrier model's contacts (model.implicit.contact)
+  std::vector<PlacedObstacle> placed;  // constrained obstacles at the end of the step
   std::vector<DiagonalAddition> additions;  // constraint stiffness of the factor
   std::vector<double> release;         // (V) pull that releases a contact, kg*m/s
   // (V) velocity changes given to the step as impulses M kick (empty: none), m/s.
@@ -114,6 +116,7 @@ void step_rhs(const Model& model, const ImplicitSolver& s, const StepEquation& e
     rhs.segment<3>(3 * i) = model.mass[i] * (s.v_base[i] - v[i]) + eq.beta * f[i];
   }
   s.contacts.add_friction(v, rhs);
+  s.barrier.add_impulses(v, rhs);
 }
 
 // The first Newton iteration of a step is linearized at the start of the step, x_n (Baraff
@@ -280,7 +283,7 @@ class Merit {
     mass_dv_dv_ = 0.0;
     momentum_dv_ = 0.0;
     nonconservative_dv_ = 0.0;
-    friction0_ = s_.contacts.friction_potential(s_.v);
+    friction0_ = s_.contacts.friction_potential(s_.v) + s_.barrier.potential(s_.v);
     gravity_dv_ = 0.0;
     for (int i = 0; i < n; ++i) {
       if (model_.pinned[i]) continue;
@@ -328,7 +331,9 @@ class Merit {
     if (model_.bending) potential += bending_energy(*model_.bending, s_.x_try) - bending0_;
     const double frozen = -eq_.beta * alpha * nonconservative_dv_ +
                           0.5 * eq_.beta * alpha * alpha * damping_dv_dv_;
-    const double friction = s_.contacts.friction_potential(s_.v_try) - friction0_;
+    // Friction's potentials and the barrier's energy (+infinity past an obstacle).
+    const double friction =
+        s_.contacts.friction_potential(s_.v_try) + s_.barrier.potential(s_.v_try) - friction0_;
     return kinetic + potential + frozen + friction;
   }
 
@@ -404,7 +409,14 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   std::clock_t t0 = std::clock();
   s.contacts.clear(n);
   s.placed.clear();
-  for (const Obstacle& ob : model.obstacles) s.placed.push_back(place_obstacle(ob, eq.t_end));
+  // With the barrier model only mesh obstacles are constraints; the barrier takes the others
+  // and the solve starts from end positions outside them.
+  s.barrier.begin(model, state.x, s.x_end_base, eq.beta_end, eq.t, eq.t_end);
+  for (const Obstacle& ob : model.obstacles) {
+    if (s.barrier.enabled() && ob.kind != ObstacleKind::Mesh) continue;
+    s.placed.push_back(place_obstacle(ob, eq.t_end));
+  }
+  s.barrier.make_feasible(s.v);
   if (!s.placed.empty()) {
     const Vec3List& x_end = end_positions(model, s, eq, state, s.v);
     // A vertex in contact at the end of the last step (and not released) is caught again
@@ -437,8 +449,10 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   const int iteration_limit = opt.max_newton_iterations + kExtraNewtonIterations;
   bool settled = true;  // the last iteration took a whole step and changed no contact
   for (int k = 0; free_dofs > 0; ++k) {
-    // Converged, once the contacts have been checked by a solve.
-    if (report.converged && settled && (k > 0 || s.contacts.empty())) break;
+    // Converged, once the contacts (or the barrier) have been checked by a solve.
+    if (report.converged && settled && (k > 0 || (s.contacts.empty() && !s.barrier.enabled()))) {
+      break;
+    }
     if (k >= iteration_limit || (k >= opt.max_newton_iterations && settled)) break;
     // The system matrix at the linearization point.
     t0 = std::clock();
@@ -456,6 +470,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     }
     report.seconds_residual += processor_seconds_since(t0);
     s.contacts.add_friction_jacobian(s.v, s.system);
+    s.barrier.add_hessian(s.v, s.system);
     s.dv.setZero(3 * n);
     if (k == 0 && has_history(model, state, eq.h, eq.t)) {
       for (int i = 0; i < n; ++i) {
@@ -490,7 +505,9 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     const double slope = merit.start(opt.line_search);
     const double base = merit.value0();
 
-    double alpha = 1.0, best_alpha = 0.0, best = base, accepted = 0.0;
+    // The barrier's line search stops short of the first touch of an obstacle.
+    const double longest = s.barrier.largest_step(s.v, s.dv);
+    double alpha = longest, best_alpha = 0.0, best = base, accepted = 0.0;
     for (int trial = 0; trial <= kMaxHalvings; ++trial, alpha *= 0.5) {
       const double value = merit.at(alpha);
       const double bound = opt.line_search == LineSearch::Residual
@@ -507,7 +524,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     }
     if (accepted == 0.0) {
       report.line_search_failed = best_alpha == 0.0;
-      accepted = best_alpha > 0.0 ? best_alpha : (k == 0 ? 0.0 : 1.0);
+      accepted = best_alpha > 0.0 ? best_alpha : (k == 0 ? 0.0 : longest);
     }
     double largest_change = 0.0;
     for (int i = 0; i < n; ++i) {
@@ -555,7 +572,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     }
   }
   report.final_residual = r;
-  report.contacts = s.contacts.size();
+  report.contacts = s.contacts.size() + s.barrier.active(s.v);
 
   report.stuck_contacts = s.contacts.stuck();
   s.contacts.remember(s.v, release_impulses(model, eq, s));

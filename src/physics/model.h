@@ -80,9 +80,16 @@ enum class LineSearch {
   Residual,   // the norm of the step equation's residual
 };
 
+// How the implicit solve keeps cloth out of sphere, cylinder and plane obstacles.
+enum class ContactModel {
+  Constraints,  // velocity constraints filtered inside PCG, an active set (contact.h)
+  Barrier,      // IPC's log barrier potential with its Hessian (barrier_contact.h)
+};
+
 struct ImplicitOptions {
   LinearSolver linear_solver = LinearSolver::Cholesky;
   LineSearch line_search = LineSearch::Potential;
+  ContactModel contact = ContactModel::Constraints;
   int max_newton_iterations = 8;   // 1 = one Newton iteration (Baraff & Witkin); a step
                                    // the line search shortened, or whose contacts changed,
                                    // gets a few more (docs/implicit.md)

@@ -364,6 +364,9 @@ Scene parse_scene(const Json& doc, const std::string& file) {
     const std::string search = im.choice("line_search", {"potential", "residual"}, "potential");
     scene.implicit.line_search =
         search == "potential" ? LineSearch::Potential : LineSearch::Residual;
+    const std::string contact = im.choice("contact", {"constraints", "barrier"}, "constraints");
+    scene.implicit.contact =
+        contact == "constraints" ? ContactModel::Constraints : ContactModel::Barrier;
     im.finish();
   }
   scene.max_speed = root.number("max_speed", 100.0, Range::positive());

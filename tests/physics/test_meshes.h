@@ -81,6 +81,20 @@ inline Sheet cotton_sheet(double size, int nx, Integrator integrator, double dt,
   return s;
 }
 
+// An obstacle of the given kind (a cylinder's half length equals its radius).
+inline Obstacle make_obstacle(ObstacleKind kind, const Vec3& center, const Vec3& axis,
+                              double radius, double friction, double thickness) {
+  Obstacle ob;
+  ob.kind = kind;
+  ob.center = center;
+  ob.axis = axis.normalized();
+  ob.radius = radius;
+  ob.half_length = radius;
+  ob.friction = friction;
+  ob.thickness = thickness;
+  return ob;
+}
+
 // Positions (m) of a stretched, sheared sheet folded out of plane with per-vertex noise, and
 // random velocities (m/s, up to 0.3 per coordinate), from rest coordinates (m): every strain
 // and strain-rate component is non-zero.

@@ -1,0 +1,244 @@
+#include "physics/barrier_contact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "physics/system_matrix.h"
+
+namespace tissu {
+
+double barrier_energy(double d, double dhat, double kappa) {
+  if (d <= 0.0) return std::numeric_limits<double>::infinity();
+  if (d >= dhat) return 0.0;
+  const double e = d - dhat;
+  return -kappa * e * e * std::log(d / dhat);
+}
+
+double barrier_derivative(double d, double dhat, double kappa) {
+  if (d >= dhat) return 0.0;
+  const double e = d - dhat;
+  return -kappa * (2.0 * e * std::log(d / dhat) + e * e / d);
+}
+
+double barrier_second_derivative(double d, double dhat, double kappa) {
+  if (d >= dhat) return 0.0;
+  const double e = d - dhat;
+  return -kappa * (2.0 * std::log(d / dhat) + 4.0 * e / d - e * e / (d * d));
+}
+
+double barrier_stiffness(double mass, double dt) { return mass / (dt * dt); }
+
+double barrier_distance(const Model& model) {
+  double edges = 0.0;  // m
+  for (const Tri& tri : model.triangles) {
+    for (int e = 0; e < 3; ++e) edges += (model.rest_uv[tri[e]] - model.rest_uv[tri[(e + 1) % 3]]).norm();
+  }
+  const double count = 3.0 * std::max(1, model.num_triangles());
+  return kBarrierEdgeFraction * edges / count;
+}
+
+Gap obstacle_gap(const PlacedObstacle& obstacle, const Vec3& p) {
+  const Obstacle& ob = *obstacle.obstacle;
+  const SurfacePoint s = obstacle.closest(p);
+  Gap g;
+  g.d = s.distance - ob.thickness;
+  g.normal = s.normal;
+  g.surface_velocity = s.velocity;
+  const Mat3 across = Mat3::Identity() - s.normal * s.normal.transpose();
+  switch (ob.kind) {
+    case ObstacleKind::Sphere: {
+      // distance |p - c| - R: Hessian (I - n n^T) / |p - c|.
+      const double r = (p - obstacle.center).norm();
+      if (r > 0.0) g.curvature = across / r;
+      break;
+    }
+    case ObstacleKind::Cylinder: {
+      const Vec3 q = p - obstacle.center;
+      const double z = q.dot(ob.axis);
+      const Vec3 radial = q - z * ob.axis;
+      const double rho = radial.norm();
+      if (rho <= 0.0 || s.distance <= 0.0) break;
+      const Vec3 t = ob.axis.cross(radial / rho);  // the circle's tangent
+      if (std::fabs(z) <= ob.half_length) {
+        // Side: distance rho - R, Hessian t t^T / rho.
+        g.curvature = t * t.transpose() / rho;
+      } else if (rho > ob.radius) {
+        // Rim: distance to the rim circle, Hessian (I - n n^T - (R / rho) t t^T) / dist.
+        g.curvature = (across - (ob.radius / rho) * t * t.transpose()) / s.distance;
+      }  // cap: a plane, no curvature
+      break;
+    }
+    case ObstacleKind::Plane:
+    case ObstacleKind::Mesh:
+      break;
+  }
+  return g;
+}
+
+BarrierTerm vertex_barrier(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
+                           double dhat, bool psd) {
+  BarrierTerm term;
+  const Gap g = obstacle_gap(obstacle, p);
+  if (g.d >= dhat) return term;
+  term.energy = barrier_energy(g.d, dhat, kappa);
+  if (g.d <= 0.0) return term;
+  const double slope = barrier_derivative(g.d, dhat, kappa);  // N, negative
+  term.gradient = slope * g.normal;
+  term.hessian = barrier_second_derivative(g.d, dhat, kappa) * g.normal * g.normal.transpose();
+  if (!psd) term.hessian += slope * g.curvature;
+  return term;
+}
+
+double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u) {
+  const Obstacle& ob = *obstacle.obstacle;
+  const double d0 = obstacle_gap(obstacle, p).d;
+  if (d0 <= 0.0) return 0.0;
+  switch (ob.kind) {
+    case ObstacleKind::Plane: {
+      const double approach = -u.dot(ob.axis);  // m per unit of t
+      return approach > d0 ? d0 / approach : 1.0;
+    }
+    case ObstacleKind::Sphere: {
+      // |q + t u| = R + thickness: a t^2 + b t + c = 0 with c > 0 outside.
+      const Vec3 q = p - obstacle.center;
+      const double reach = ob.radius + ob.thickness;
+      const double a = u.squaredNorm(), b = 2.0 * q.dot(u), c = q.squaredNorm() - reach * reach;
+      const double disc = b * b - 4.0 * a * c;
+      if (b >= 0.0 || disc < 0.0) return 1.0;
+      return std::min(1.0, 2.0 * c / (-b + std::sqrt(disc)));  // the smaller root, stably
+    }
+    default: {
+      // Conservative advancement: the gap falls by at most |u| per unit of t.
+      const double speed = u.norm();
+      double t = 0.0, d = d0;
+      for (int k = 0; k < 100 && d > 1e-3 * d0; ++k) {
+        t += d / speed;
+        if (t >= 1.0) return 1.0;
+        d = obstacle_gap(obstacle, p + t * u).d;
+      }
+      return std::max(0.0, t);
+    }
+  }
+}
+
+void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3List& x_end_base,
+                           double beta_end, double t, double t_end) {
+  enabled_ = model.implicit.contact == ContactModel::Barrier;
+  placed_.clear();
+  friction_.clear();
+  if (!enabled_) return;
+  model_ = &model;
+  x_end_base_ = &x_end_base;
+  beta_end_ = beta_end;
+  dhat_ = barrier_distance(model);
+  const int n = model.num_vertices();
+  kappa_.resize(n);
+  for (int i = 0; i < n; ++i) kappa_[i] = barrier_stiffness(model.mass[i], model.dt);
+  for (const Obstacle& ob : model.obstacles) {
+    if (ob.kind == ObstacleKind::Mesh) continue;
+    placed_.push_back(place_obstacle(ob, t_end));
+    if (ob.friction == 0.0) continue;
+    // Lagged friction: the barrier's normal force at x_n, over the step, as J_n.
+    const PlacedObstacle start = place_obstacle(ob, t);
+    for (int i = 0; i < n; ++i) {
+      if (model.pinned[i]) continue;
+      const Gap g = obstacle_gap(start, x_n[i]);
+      if (g.d <= 0.0 || g.d >= dhat_) continue;
+      const double normal_impulse =
+          -beta_end * barrier_derivative(g.d, dhat_, kappa_[i]);  // kg*m/s
+      friction_.push_back({i, SlidingFriction{g.normal, g.surface_velocity,
+                                              ob.friction * normal_impulse}});
+    }
+  }
+  if (placed_.empty()) enabled_ = false;
+}
+
+void BarrierContact::make_feasible(Vec3List& v) const {
+  if (!enabled_) return;
+  const double keep = 0.5 * dhat_;  // m
+  for (int i = 0; i < model_->num_vertices(); ++i) {
+    if (model_->pinned[i]) continue;
+    for (const PlacedObstacle& o : placed_) {
+      const Gap g = obstacle_gap(o, end_position(v, i));
+      if (g.d < keep) v[i] += ((keep - g.d) / beta_end_) * g.normal;
+    }
+  }
+}
+
+double BarrierContact::potential(const Vec3List& v) const {
+  if (!enabled_) return 0.0;
+  double total = 0.0;
+  for (int i = 0; i < model_->num_vertices(); ++i) {
+    if (model_->pinned[i]) continue;
+    const Vec3 x = end_position(v, i);
+    for (const PlacedObstacle& o : placed_) {
+      total += barrier_energy(obstacle_gap(o, x).d, dhat_, kappa_[i]);
+    }
+  }
+  for (const Friction& f : friction_) total += f.law.potential(v[f.vertex]);
+  return total;
+}
+
+template <typename Visit>
+void BarrierContact::for_each_term(const Vec3List& v, Visit visit) const {
+  for (int i = 0; i < model_->num_vertices(); ++i) {
+    if (model_->pinned[i]) continue;
+    const Vec3 x = end_position(v, i);
+    for (const PlacedObstacle& o : placed_) {
+      const BarrierTerm b = vertex_barrier(o, x, kappa_[i], dhat_, true);
+      if (b.energy > 0.0) visit(i, b);
+    }
+  }
+}
+
+void BarrierContact::add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const {
+  if (!enabled_) return;
+  for_each_term(v, [&](int i, const BarrierTerm& b) { rhs.segment<3>(3 * i) -= beta_end_ * b.gradient; });
+  for (const Friction& f : friction_) rhs.segment<3>(3 * f.vertex) += f.law.impulse(v[f.vertex]);
+}
+
+void BarrierContact::add_hessian(const Vec3List& v, SystemMatrix& system) const {
+  if (!enabled_) return;
+  const double scale = beta_end_ * beta_end_;  // s^2
+  for_each_term(v, [&](int i, const BarrierTerm& b) { system.add_diagonal(i, scale * b.hessian); });
+  for (const Friction& f : friction_) system.add_diagonal(f.vertex, f.law.jacobian(v[f.vertex]));
+}
+
+double BarrierContact::largest_step(const Vec3List& v, const Eigen::VectorXd& dv) const {
+  if (!enabled_) return 1.0;
+  double step = 1.0;
+  for (int i = 0; i < model_->num_vertices(); ++i) {
+    if (model_->pinned[i]) continue;
+    const Vec3 x = end_position(v, i);
+    const Vec3 u = beta_end_ * Vec3(dv.segment<3>(3 * i));  // m per unit step length
+    const double reach = u.norm();
+    for (const PlacedObstacle& o : placed_) {
+      if (obstacle_gap(o, x).d > reach) continue;  // cannot touch within the step
+      const double touch = first_touch(o, x, u);
+      if (touch < 1.0) step = std::min(step, kBarrierStepFraction * touch);
+    }
+  }
+  return step;
+}
+
+int BarrierContact::active(const Vec3List& v, double* smallest_gap) const {
+  int count = 0;
+  double smallest = std::numeric_limits<double>::infinity();
+  if (enabled_) {
+    for (int i = 0; i < model_->num_vertices(); ++i) {
+      if (model_->pinned[i]) continue;
+      bool near = false;
+      for (const PlacedObstacle& o : placed_) {
+        const double d = obstacle_gap(o, end_position(v, i)).d;
+        smallest = std::min(smallest, d);
+        near = near || d < dhat_;
+      }
+      count += near ? 1 : 0;
+    }
+  }
+  if (smallest_gap) *smallest_gap = smallest;
+  return count;
+}
+
+}  // namespace tissu

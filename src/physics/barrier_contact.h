@@ -1,0 +1,131 @@
+// Contact of cloth vertices with analytic obstacles (sphere, cylinder, plane) as a barrier
+// potential inside an implicit step, the opt-in alternative to the constraints of
+// contact.h (scene key "implicit": {"contact": "barrier"}; docs/implicit.md, "A barrier
+// instead of constraints").
+//
+// IPC's log barrier (Li et al. 2020, eq. 6) on each vertex's gap d = distance to the
+// surface - the obstacle's thickness (m):
+//   b(d) = -kappa (d - dhat)^2 ln(d / dhat)   for 0 < d < dhat,   0 for d >= dhat   (J)
+// with dhat = a quarter of the mean rest edge (barrier_distance) and kappa = m / dt^2 per vertex (vertex mass m, the scene's
+// step dt): the barrier's stiffness b'' beta^2 is then a few times the vertex's mass block,
+// so the step's matrix stays as well conditioned as without contact, and a resting vertex
+// settles a fraction of dhat from the surface. Its gradient enters the step equation, its
+// Hessian (the PSD part b'' n n^T; the curvature part b' Hd is negative semi-definite on a
+// convex obstacle and is left out) the step's matrix, its energy the line search's
+// incremental potential. The line search never goes past 0.9 of the step at which a
+// vertex's straight path first reaches d = 0 (largest_step), so no vertex ends inside.
+// Friction is IPC's lagged smoothed Coulomb friction (SlidingFriction, contact.h) with the
+// barrier's normal force at the start of the step as the normal impulse.
+// Tests: tests/physics/barrier_contact_test.cpp.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/types.h"
+#include "physics/contact.h"
+#include "physics/model.h"
+#include "physics/obstacle.h"
+
+namespace tissu {
+
+class SystemMatrix;
+
+// The barrier acts below dhat = this fraction of the mesh's mean rest edge (m).
+constexpr double kBarrierEdgeFraction = 0.25;
+// The line search stops at this fraction of the step that would reach d = 0 (IPC: 0.8-0.9).
+constexpr double kBarrierStepFraction = 0.9;
+
+// b(d), b'(d), b''(d) of the log barrier above for kappa (kg/s^2 = J/m^2) and dhat (m):
+// J, N and N/m. b is +infinity for d <= 0 and 0 for d >= dhat.
+double barrier_energy(double d, double dhat, double kappa);
+double barrier_derivative(double d, double dhat, double kappa);
+double barrier_second_derivative(double d, double dhat, double kappa);
+
+// The gap of point p to a placed sphere, cylinder or plane: d = signed distance -
+// thickness (m), its gradient (the outward normal) and its Hessian (the curvature of the
+// distance, 1/m; positive semi-definite outside a convex obstacle).
+struct Gap {
+  double d = 0.0;
+  Vec3 normal = Vec3::UnitZ();
+  Mat3 curvature = Mat3::Zero();
+  Vec3 surface_velocity = Vec3::Zero();  // m/s
+};
+Gap obstacle_gap(const PlacedObstacle& obstacle, const Vec3& p);
+
+// The barrier of one vertex at p against one obstacle: energy (J), gradient (N) and Hessian
+// (N/m), exact or (psd) with the curvature part left out.
+struct BarrierTerm {
+  double energy = 0.0;
+  Vec3 gradient = Vec3::Zero();
+  Mat3 hessian = Mat3::Zero();
+};
+BarrierTerm vertex_barrier(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
+                           double dhat, bool psd);
+
+// The first t in [0, 1] at which p + t u reaches d = 0 of the obstacle, 1 if it never does
+// (closed form for a plane and a sphere; conservative advancement on the 1-Lipschitz
+// distance for a capped cylinder, which returns a t at or before it).
+double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u);
+
+// The barrier contacts of one implicit step. End positions are x_end(v) = x_end_base +
+// beta_end v; the barrier acts on them, so its impulse on the step equation is
+// -beta_end grad B and its matrix beta_end^2 Hess B.
+class BarrierContact {
+ public:
+  // At the start of a step from positions x_n at t (s) to t_end: the analytic obstacles
+  // placed at t_end, and the lagged friction of every vertex within dhat of an obstacle
+  // with friction at x_n (normal impulse beta_end |b'(d)|). Without the barrier model
+  // (model.implicit.contact) it clears itself and every call below does nothing.
+  void begin(const Model& model, const Vec3List& x_n, const Vec3List& x_end_base,
+             double beta_end, double t, double t_end);
+  bool enabled() const { return enabled_; }
+
+  double dhat() const { return dhat_; }
+
+  // Moves the end position of each vertex whose x_end(v) is closer than dhat / 2 to an
+  // obstacle out to dhat / 2 (the initial guess of the solve must be feasible).
+  void make_feasible(Vec3List& v) const;
+
+  // The barrier energy at x_end(v) plus the friction potential at v (J); +infinity where
+  // a vertex is at or beyond d = 0.
+  double potential(const Vec3List& v) const;
+  // Adds -beta_end grad B(x_end(v)) and the friction impulses F(v) to rhs (3V), kg*m/s.
+  void add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const;
+  // Adds beta_end^2 Hess B (PSD part) and -dF/dv to the system's diagonal blocks, kg.
+  void add_hessian(const Vec3List& v, SystemMatrix& system) const;
+  // The largest step length along dv (3V), at most 1, that keeps every vertex at d > 0:
+  // kBarrierStepFraction of the first touch.
+  double largest_step(const Vec3List& v, const Eigen::VectorXd& dv) const;
+
+  // Vertices within dhat of an obstacle at x_end(v), and the smallest gap, m.
+  int active(const Vec3List& v, double* smallest_gap = nullptr) const;
+
+ private:
+  Vec3 end_position(const Vec3List& v, int i) const {
+    return (*x_end_base_)[i] + beta_end_ * v[i];
+  }
+  // Calls visit(vertex, term) for each free vertex and obstacle within dhat at x_end(v).
+  template <typename Visit>
+  void for_each_term(const Vec3List& v, Visit visit) const;
+  bool enabled_ = false;
+  const Model* model_ = nullptr;
+  const Vec3List* x_end_base_ = nullptr;
+  double beta_end_ = 0.0;  // s
+  double dhat_ = 0.0;      // m
+  std::vector<PlacedObstacle> placed_;  // at the end of the step
+  std::vector<double> kappa_;           // (V) barrier stiffness, kg/s^2
+  struct Friction {
+    int vertex = -1;
+    SlidingFriction law;
+  };
+  std::vector<Friction> friction_;
+};
+
+// kappa = m / dt^2 (kg/s^2) of a vertex of mass m (kg) in a scene stepped at dt (s).
+double barrier_stiffness(double mass, double dt);
+
+// dhat of a model: kBarrierEdgeFraction of the mean rest edge length, m.
+double barrier_distance(const Model& model);
+
+}  // namespace tissu

@@ -1,0 +1,223 @@
+// The barrier model of contact (barrier_contact.h): the log barrier's derivatives against
+// finite differences for each obstacle kind, the line search's first touch, and sheets
+// resting on a plane and dropped on a sphere, with "implicit": {"contact": "barrier"}.
+// The inclines with the barrier are in contact_test.cpp, beside the constraints' ones.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "physics/barrier_contact.h"
+#include "physics/diagnostics.h"
+#include "physics/implicit.h"
+#include "physics/step.h"
+#include "test_meshes.h"
+
+namespace tissu {
+namespace {
+
+constexpr double kDhat = 1e-3;  // m, the derivative checks' activation distance
+
+using testing::cotton_sheet;
+using testing::Sheet;
+using testing::make_obstacle;
+
+// --- The barrier's derivatives ------------------------------------------------------------
+
+TEST(Barrier, ScalarDerivativesMatchFiniteDifferences) {
+  const double kappa = 3.0, step = 1e-9;  // kg/s^2, m
+  for (double d : {1e-5, 1e-4, 3e-4, 7e-4, 9.9e-4}) {
+    const double b1 = (barrier_energy(d + step, kDhat, kappa) -
+                       barrier_energy(d - step, kDhat, kappa)) / (2 * step);
+    const double b2 = (barrier_derivative(d + step, kDhat, kappa) -
+                       barrier_derivative(d - step, kDhat, kappa)) / (2 * step);
+    EXPECT_NEAR(barrier_derivative(d, kDhat, kappa), b1, 1e-5 * std::fabs(b1)) << d;
+    EXPECT_NEAR(barrier_second_derivative(d, kDhat, kappa), b2, 1e-5 * std::fabs(b2)) << d;
+    EXPECT_LT(barrier_derivative(d, kDhat, kappa), 0.0);       // pushes out
+    EXPECT_GT(barrier_second_derivative(d, kDhat, kappa), 0.0);  // convex
+  }
+  // Zero with its first two derivatives at dhat (the barrier switches on smoothly), and
+  // unbounded at the surface.
+  EXPECT_EQ(barrier_energy(kDhat, kDhat, kappa), 0.0);
+  EXPECT_NEAR(barrier_derivative(kDhat * (1 - 1e-9), kDhat, kappa), 0.0, 1e-12);
+  EXPECT_TRUE(std::isinf(barrier_energy(0.0, kDhat, kappa)));
+}
+
+// Points 0.1-0.9 dhat outside a sphere, the side, a cap and the rim of a capped cylinder,
+// and a tilted plane, each obstacle with a thickness and moved away from its start: the
+// gradient matches central differences of the energy and the exact Hessian those of the
+// gradient; the projected Hessian is positive semi-definite and agrees with the exact one
+// along the normal.
+TEST(Barrier, GradientAndHessianMatchFiniteDifferencesForEachObstacle) {
+  const double thickness = 0.002, kappa = 5.0;  // m, kg/s^2
+  const Vec3 c(0.1, -0.2, 0.3);
+  struct Case {
+    const char* name;
+    Obstacle ob;
+    Vec3 direction;  // from the centre toward the point
+  };
+  const Vec3 axis = Vec3(0.2, 0.1, 1.0).normalized();
+  const Vec3 across = axis.cross(Vec3::UnitX()).normalized();
+  const Case cases[] = {
+      {"sphere", make_obstacle(ObstacleKind::Sphere, c, axis, 0.1, 0, thickness),
+       Vec3(0.3, -0.5, 0.8)},
+      {"cylinder side", make_obstacle(ObstacleKind::Cylinder, c, axis, 0.1, 0, thickness),
+       Vec3(across + 0.3 * axis)},
+      {"cylinder cap", make_obstacle(ObstacleKind::Cylinder, c, axis, 0.1, 0, thickness),
+       Vec3(axis + 0.2 * across)},
+      {"cylinder rim", make_obstacle(ObstacleKind::Cylinder, c, axis, 0.1, 0, thickness),
+       Vec3(axis + across)},
+      {"plane", make_obstacle(ObstacleKind::Plane, c, axis, 0, 0, thickness), axis},
+  };
+  for (const Case& k : cases) {
+    Obstacle ob = k.ob;
+    ob.motion.velocity = Vec3(0.1, 0.0, -0.2);
+    const PlacedObstacle placed = place_obstacle(ob, 0.5);
+    for (double fraction : {0.1, 0.5, 0.9}) {
+      SCOPED_TRACE(::testing::Message() << k.name << " at " << fraction << " dhat");
+      // March out from the centre to the wanted gap (the gap is 1-Lipschitz).
+      Vec3 p = placed.center + 0.05 * k.direction.normalized();
+      for (int it = 0; it < 50; ++it) {
+        const Gap g = obstacle_gap(placed, p);
+        p += (fraction * kDhat - g.d) * g.normal;
+      }
+      ASSERT_NEAR(obstacle_gap(placed, p).d, fraction * kDhat, 1e-12);
+      const BarrierTerm exact = vertex_barrier(placed, p, kappa, kDhat, false);
+      const BarrierTerm psd = vertex_barrier(placed, p, kappa, kDhat, true);
+      const double step = 1e-8;  // m
+      Mat3 fd_hessian;
+      for (int a = 0; a < 3; ++a) {
+        const Vec3 e = step * Vec3::Unit(a);
+        const BarrierTerm plus = vertex_barrier(placed, p + e, kappa, kDhat, false);
+        const BarrierTerm minus = vertex_barrier(placed, p - e, kappa, kDhat, false);
+        EXPECT_NEAR(exact.gradient[a], (plus.energy - minus.energy) / (2 * step),
+                    1e-6 * exact.gradient.norm());
+        fd_hessian.col(a) = (plus.gradient - minus.gradient) / (2 * step);
+      }
+      EXPECT_LT((exact.hessian - fd_hessian).norm(), 1e-5 * exact.hessian.norm());
+      EXPECT_LT((exact.hessian - exact.hessian.transpose()).norm(), 1e-12 * exact.hessian.norm());
+      const Eigen::SelfAdjointEigenSolver<Mat3> eig(psd.hessian);
+      EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-9 * psd.hessian.norm());
+      const Vec3 n = obstacle_gap(placed, p).normal;
+      EXPECT_NEAR(n.dot(psd.hessian * n), n.dot(exact.hessian * n), 1e-9 * psd.hessian.norm());
+    }
+  }
+}
+
+// The line search's first touch: the gap vanishes there (plane and sphere in closed form;
+// the cylinder conservatively, at or just before it), a path that misses gives 1.
+TEST(Barrier, FirstTouchIsWhereTheGapVanishes) {
+  const double thickness = 0.003;
+  const Vec3 c = Vec3::Zero(), axis = Vec3::UnitZ();
+  const Obstacle obstacles[] = {
+      make_obstacle(ObstacleKind::Plane, c, axis, 0, 0, thickness),
+      make_obstacle(ObstacleKind::Sphere, c, axis, 0.2, 0, thickness),
+      make_obstacle(ObstacleKind::Cylinder, c, axis, 0.2, 0, thickness),
+  };
+  for (const Obstacle& ob : obstacles) {
+    SCOPED_TRACE(obstacle_kind_name(ob.kind));
+    const PlacedObstacle placed = place_obstacle(ob, 0.0);
+    const Vec3 p(0.05, 0.02, 0.5), u(0.1, -0.05, -0.6);  // m, m per unit step
+    const double t = first_touch(placed, p, u);
+    ASSERT_GT(t, 0.0);
+    ASSERT_LT(t, 1.0);
+    const double d = obstacle_gap(placed, p + t * u).d;
+    EXPECT_GE(d, -1e-15);
+    EXPECT_LT(d, ob.kind == ObstacleKind::Cylinder ? 1e-3 * 0.5 : 1e-12);
+    for (double s : {0.25, 0.5, 0.75, 0.99}) EXPECT_GT(obstacle_gap(placed, p + s * t * u).d, 0.0);
+    EXPECT_EQ(first_touch(placed, p, Vec3(0.1, 0.0, 0.1)), 1.0) << "moving away";
+    EXPECT_EQ(first_touch(placed, p, 0.1 * u), 1.0) << "too short to reach";
+  }
+}
+
+// --- Sheets on planes -------------------------------------------------------------------
+
+Sheet barrier_sheet(double size, int nx, double dt) {
+  Sheet s = cotton_sheet(size, nx, Integrator::BackwardEuler, dt);
+  s.model.implicit.contact = ContactModel::Barrier;
+  return s;
+}
+
+// The gaps of every vertex to obstacle o at the state's time, m.
+std::pair<double, double> gap_range(const Sheet& s, int o) {
+  const PlacedObstacle placed = place_obstacle(s.model.obstacles[o], s.state.t);
+  double lo = INFINITY, hi = -INFINITY;
+  for (const Vec3& p : s.state.x) {
+    const double d = obstacle_gap(placed, p).d;
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  return {lo, hi};
+}
+
+// A sheet laid on a plane with friction at half dhat, at 1/30 s: it settles within a second
+// steps onto the gap where the barrier holds its weight, inside dhat, and then stays there
+// (no creep along the plane, no bounce off it).
+TEST(Barrier, SheetRestingOnAPlaneNeitherCreepsNorBounces) {
+  Sheet s = barrier_sheet(0.4, 8, 1.0 / 30.0);
+  const double thickness = 0.002;  // m
+  s.model.obstacles.push_back(
+      make_obstacle(ObstacleKind::Plane, Vec3::Zero(), Vec3::UnitZ(), 0, 0.5, thickness));
+  const double dhat = barrier_distance(s.model);
+  for (Vec3& p : s.state.x) p.z() = thickness + 0.5 * dhat;
+  Workspace ws;
+  for (int k = 0; k < 30; ++k) ASSERT_FALSE(step(s.model, s.state, ws)) << "settling step " << k;
+  const Vec3List settled = s.state.x;
+  double drift = 0.0, slide = 0.0, speed = 0.0;
+  for (int k = 0; k < 60; ++k) {
+    ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+    for (size_t i = 0; i < settled.size(); ++i) {
+      const Vec3 moved = s.state.x[i] - settled[i];
+      drift = std::max(drift, moved.norm());
+      slide = std::max(slide, moved.head<2>().norm());
+      speed = std::max(speed, s.state.v[i].norm());
+    }
+    const auto [lo, hi] = gap_range(s, 0);
+    ASSERT_GT(lo, 0.0) << "step " << k;
+    ASSERT_LT(hi, dhat) << "step " << k;
+  }
+  EXPECT_LT(drift, 1e-10);
+  EXPECT_LT(slide, 1e-12);
+  EXPECT_LT(speed, 1e-9);
+}
+
+// --- A sphere ---------------------------------------------------------------------------
+
+// The barrier's energy of the state, J.
+double barrier_energy_of(const Sheet& s) {
+  double total = 0.0;
+  for (const Obstacle& ob : s.model.obstacles) {
+    const PlacedObstacle placed = place_obstacle(ob, s.state.t);
+    for (int i = 0; i < s.model.num_vertices(); ++i) {
+      const double kappa = barrier_stiffness(s.model.mass[i], s.model.dt);
+      total += vertex_barrier(placed, s.state.x[i], kappa, barrier_distance(s.model), true).energy;
+    }
+  }
+  return total;
+}
+
+// A sheet dropped onto a sphere with large steps: no vertex ever ends a step at or inside
+// the sphere's thickness, and contact does no work: the total energy, the barrier's
+// included, never rises above its value at the start.
+TEST(Barrier, SheetDroppedOnASphereAtThirtyHertzNeverEndsInsideNorGainsEnergy) {
+  Sheet s = barrier_sheet(0.6, 14, 1.0 / 30.0);
+  const double radius = 0.15, thickness = 0.002;
+  s.model.obstacles.push_back(make_obstacle(ObstacleKind::Sphere, Vec3(0.02, -0.01, -radius - 0.05),
+                                            Vec3::UnitZ(), radius, 0.3, thickness));
+  s.model.air_damping = 0.3;
+  Workspace ws;
+  const double e0 = total_energy(s.model, s.state);
+  double closest = INFINITY, highest = -INFINITY;
+  for (int k = 0; k < 45; ++k) {
+    ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+    closest = std::min(closest, gap_range(s, 0).first);
+    highest = std::max(highest, total_energy(s.model, s.state) + barrier_energy_of(s) - e0);
+  }
+  EXPECT_GT(closest, 0.0);
+  EXPECT_LT(closest, barrier_distance(s.model)) << "the sheet lands on the sphere";
+  EXPECT_LE(highest, 1e-9);
+}
+
+}  // namespace
+}  // namespace tissu
