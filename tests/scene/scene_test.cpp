@@ -101,6 +101,17 @@ TEST(SceneValidation, UnknownPresetAndIntegrator) {
   EXPECT_EQ(parse_error(doc).substr(0, 34), "integrator: unknown value \"rk4\"; e");
 }
 
+// The implicit solve's contact model: the constraints by default, the barrier on request.
+TEST(SceneValidation, ImplicitContactModel) {
+  Json doc = valid();
+  EXPECT_EQ(parse_scene(doc, "").implicit.contact, ContactModel::Constraints);
+  doc["implicit"] = Json::parse(R"({"contact": "barrier"})");
+  EXPECT_EQ(parse_scene(doc, "").implicit.contact, ContactModel::Barrier);
+  doc["implicit"] = Json::parse(R"({"contact": "penalty"})");
+  EXPECT_EQ(parse_error(doc),
+            "implicit.contact: unknown value \"penalty\"; expected one of constraints, barrier");
+}
+
 TEST(SceneValidation, StepsAndDurationExclusive) {
   Json doc = valid();
   doc["duration"] = 1.0;
