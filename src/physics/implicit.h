@@ -2,7 +2,8 @@
 // all solved in velocity form with Newton's method, the analytic force Jacobian written
 // straight into the step's matrix (SystemMatrix), preconditioned conjugate gradients
 // (sparse Cholesky or block Jacobi preconditioner, Model::implicit.linear_solver), contact
-// with obstacles as velocity constraints inside the solve (ContactSet) and a backtracking
+// with obstacles as velocity constraints inside the solve (ContactSet) or, on request
+// (Model::implicit.contact), a barrier potential (BarrierContact), and a backtracking
 // line search on the incremental potential or the residual (Model::implicit.line_search).
 // Pinned vertices are constraints removed from the solve. Equations and choices:
 // docs/implicit.md.
