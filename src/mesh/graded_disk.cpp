@@ -74,15 +74,15 @@ Vec2List graded_disk_points(double radius, int triangles, uint64_t seed, double 
     weighted += 2.0 * kPi * r / (e * e) * radius / n;
   }
   double coarse = std::sqrt(4.0 * weighted / (std::sqrt(3.0) * triangles));
-  // Ring counts round: a few corrections of the coarse edge by the count they give
+  // Ring counts round: three corrections of the coarse edge by the count the points give
   // (a triangulation of V points with B on the hull has 2 V - B - 2 triangles).
-  Vec2List points;
-  for (int pass = 0; pass < 4; ++pass) {
-    points = ring_points(radius, inner_radius, grading, coarse, seed);
+  Vec2List points = ring_points(radius, inner_radius, grading, coarse, seed);
+  for (int pass = 0; pass < 3; ++pass) {
     const double rim =
         std::max(3.0, std::round(2.0 * kPi * radius / graded_edge(grading, coarse, radius)));
     const double count = 2.0 * static_cast<double>(points.size()) - rim - 2.0;
     coarse *= std::sqrt(count / triangles);
+    points = ring_points(radius, inner_radius, grading, coarse, seed);
   }
   return points;
 }
