@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/generate.h"
 #include "physics/model.h"
 #include "scene/json_reader.h"
 
@@ -20,6 +21,8 @@ struct MeshSpec {
   int triangles = 1000;        // requested triangle count (about)
   bool irregular = true;
   uint64_t seed = 1;
+  std::optional<double> inner_radius;  // disk: a circle of vertices at this radius, m
+  std::optional<DiskGrading> grading;  // disk: a band meshed finer (needs inner_radius)
   std::string file;            // resolved path (relative paths are relative to the scene file)
   double uv_scale = 1.0;       // texture coordinates -> metres
 };
@@ -51,6 +54,11 @@ struct PinSpec {
   std::string path;                     // JSON path, for errors
   std::vector<long long> vertices;
   std::optional<std::pair<Vec3, Vec3>> box;  // world min, max at t = 0, m
+  struct Ball {
+    Vec3 center;    // world, at t = 0, m
+    double radius;  // m
+  };
+  std::optional<Ball> disk;  // the vertices within `radius` of `center` (in 3D)
 };
 
 struct Scene {

@@ -21,6 +21,14 @@ TriMesh generate_or_load(const MeshSpec& spec) {
       return generate_rectangle(spec.size.x(), spec.size.y(), spec.triangles, spec.irregular,
                                 spec.seed);
     case MeshSpec::Kind::Disk:
+      if (spec.grading) {
+        return generate_disk(spec.radius, spec.triangles, spec.seed, *spec.inner_radius,
+                             *spec.grading);
+      }
+      if (spec.inner_radius) {
+        return generate_disk(spec.radius, spec.triangles, spec.irregular, spec.seed,
+                             *spec.inner_radius);
+      }
       return generate_disk(spec.radius, spec.triangles, spec.irregular, spec.seed);
     case MeshSpec::Kind::Sliver:
       return generate_sliver_rectangle(spec.size.x(), spec.size.y(), spec.triangles);
@@ -93,6 +101,18 @@ void apply_pins(const std::vector<PinSpec>& pins, const Vec3List& x, std::vector
         }
       }
       if (selected == 0) throw InputError(pin.path + ".box: selects no vertex");
+    }
+    if (pin.disk) {
+      // A relative 1e-9 keeps the vertices placed on a circle of that radius (a disk
+      // mesh's inner_radius) despite rounding.
+      const double reach = pin.disk->radius * (1.0 + 1e-9);
+      for (long long i = 0; i < n; ++i) {
+        if ((x[i] - pin.disk->center).norm() <= reach) {
+          pinned[i] = 1;
+          ++selected;
+        }
+      }
+      if (selected == 0) throw InputError(pin.path + ".disk: selects no vertex");
     }
   }
 }

@@ -30,6 +30,28 @@ Integrator parse_integrator(JsonReader& root) {
   return Integrator::Bdf2;
 }
 
+// A disk's circle of vertices at `inner_radius` and its band meshed finer (generate.h,
+// DiskGrading), both optional; the grading needs the circle. Lengths in m.
+void parse_disk_circles(JsonReader& mesh, MeshSpec& spec) {
+  const double r = spec.radius;
+  if (mesh.has("inner_radius")) {
+    spec.inner_radius = mesh.number("inner_radius", Range{0.0, r, true, true});
+  }
+  if (!mesh.has("grading")) return;
+  JsonReader g = mesh.object("grading");
+  if (!spec.inner_radius) {
+    throw InputError(g.path() + ": needs " + mesh.path_of("inner_radius") +
+                     " (the graded disk has a circle of vertices there)");
+  }
+  DiskGrading grading;
+  grading.inner = g.number("inner", Range{0.0, r, false, true});
+  grading.outer = g.number("outer", Range{grading.inner, r, true, false});
+  grading.fine_ratio = g.number("fine_ratio", Range{0.0, 1.0, true, false});
+  grading.transition = g.number("transition", 0.0, Range::between(0.0, r));
+  g.finish();
+  spec.grading = grading;
+}
+
 MeshSpec parse_mesh(JsonReader mesh, const std::string& scene_file) {
   MeshSpec spec;
   if (mesh.has("file")) {
@@ -52,6 +74,7 @@ MeshSpec parse_mesh(JsonReader mesh, const std::string& scene_file) {
   if (kind == "disk") {
     spec.kind = MeshSpec::Kind::Disk;
     spec.radius = mesh.number("radius", length);
+    parse_disk_circles(mesh, spec);
   } else {
     spec.kind = kind == "rectangle" ? MeshSpec::Kind::Rectangle : MeshSpec::Kind::Sliver;
     spec.size = mesh.vec2("size", length);
@@ -67,7 +90,8 @@ MeshSpec parse_mesh(JsonReader mesh, const std::string& scene_file) {
                      " needs " + mesh.path_of("triangles") + " >= " + format_number(aspect) +
                      ", got " + std::to_string(spec.triangles));
   }
-  spec.irregular = mesh.boolean("irregular", true);
+  // A graded disk's rings are always irregular: the key does not apply to it.
+  if (!spec.grading) spec.irregular = mesh.boolean("irregular", true);
   spec.seed = static_cast<uint64_t>(mesh.integer("seed", 1, Range::between(0, 9e15)));
   mesh.finish();
   return spec;
@@ -184,8 +208,12 @@ std::vector<PinSpec> parse_pins(JsonReader& cloth) {
         if (lo[a] > hi[a]) throw InputError(b.path() + ": min must not exceed max on each axis");
       }
       pin.box = std::make_pair(lo, hi);
+    } else if (p.has("disk")) {
+      JsonReader d = p.object("disk");
+      pin.disk = PinSpec::Ball{d.vec3("center"), d.number("radius", Range::positive())};
+      d.finish();
     } else {
-      throw InputError(p.path() + ": needs \"vertices\" or \"box\"");
+      throw InputError(p.path() + ": needs \"vertices\", \"box\" or \"disk\"");
     }
     p.finish();
     pins.push_back(pin);
