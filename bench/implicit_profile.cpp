@@ -1,10 +1,12 @@
 // Where an implicit run of a scene spends its steps: per step the substeps, Newton and CG
 // iterations (totals over the substeps and any retry), the contacts at the end of the step
-// and the step's processor time (one thread). Totals at the end.
+// and the step's processor time (one thread unless --threads). Totals at the end.
 //   ./build/bench/tissu_implicit_profile SCENE [--set KEY=VALUE]... [--every N] [--detail]
+//       [--threads N]   (default 1; times are processor time, summed over the threads)
 // --detail adds, for each printed step, its last substep's Newton iterations one by one
 // (residual, line-search length, CG iterations), factorizations, contact changes and the
 // processor time of its stages.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -40,18 +42,22 @@ void print_detail(const ImplicitReport& r) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s SCENE [--set KEY=VALUE]... [--every N]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s SCENE [--set KEY=VALUE]... [--every N] [--detail] [--threads N]\n",
+                 argv[0]);
     return 2;
   }
   std::vector<std::string> overrides;
   int every = 1;
   bool detail = false;
+  int threads = 1;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--set" && i + 1 < argc) {
       overrides.push_back(argv[++i]);
     } else if (a == "--every" && i + 1 < argc) {
       every = std::atoi(argv[++i]);
+    } else if (a == "--threads" && i + 1 < argc) {
+      threads = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--detail") {
       detail = true;
     } else {
@@ -69,7 +75,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   Workspace ws;
-  ws.threads = 1;
+  ws.threads = threads;
   std::printf("%6s %8s %4s %6s %6s %8s %8s\n", "step", "t s", "sub", "newton", "cg",
               "contacts", "ms");
   double total = 0.0;
