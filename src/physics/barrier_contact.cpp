@@ -30,6 +30,7 @@ double barrier_second_derivative(double d, double dhat, double kappa) {
 double barrier_stiffness(double mass, double dt) { return mass / (dt * dt); }
 
 double barrier_distance(const Model& model) {
+  if (model.implicit.barrier_distance > 0.0) return model.implicit.barrier_distance;
   double edges = 0.0;  // m
   for (const Tri& tri : model.triangles) {
     for (int e = 0; e < 3; ++e) edges += (model.rest_uv[tri[e]] - model.rest_uv[tri[(e + 1) % 3]]).norm();
@@ -134,7 +135,9 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   dhat_ = barrier_distance(model);
   const int n = model.num_vertices();
   kappa_.resize(n);
-  for (int i = 0; i < n; ++i) kappa_[i] = barrier_stiffness(model.mass[i], model.dt);
+  const double stiffness_dt =
+      model.implicit.barrier_stiffness_dt > 0.0 ? model.implicit.barrier_stiffness_dt : model.dt;
+  for (int i = 0; i < n; ++i) kappa_[i] = barrier_stiffness(model.mass[i], stiffness_dt);
   for (const Obstacle& ob : model.obstacles) {
     if (ob.kind == ObstacleKind::Mesh) continue;
     placed_.push_back(place_obstacle(ob, t_end));

@@ -6,7 +6,7 @@
 // IPC's log barrier (Li et al. 2020, eq. 6) on each vertex's gap d = distance to the
 // surface - the obstacle's thickness (m):
 //   b(d) = -kappa (d - dhat)^2 ln(d / dhat)   for 0 < d < dhat,   0 for d >= dhat   (J)
-// with dhat = a quarter of the mean rest edge (barrier_distance) and kappa = m / dt^2 per vertex (vertex mass m, the scene's
+// with dhat = a quarter of the mean rest edge or the scene's (barrier_distance) and kappa = m / dt^2 per vertex (vertex mass m, the scene's
 // step dt): the barrier's stiffness b'' beta^2 is then a few times the vertex's mass block,
 // so the step's matrix stays as well conditioned as without contact, and a resting vertex
 // settles a fraction of dhat from the surface. Its gradient enters the step equation, its
@@ -122,10 +122,12 @@ class BarrierContact {
   std::vector<Friction> friction_;
 };
 
-// kappa = m / dt^2 (kg/s^2) of a vertex of mass m (kg) in a scene stepped at dt (s).
+// kappa = m / dt^2 (kg/s^2) of a vertex of mass m (kg) for dt (s): the scene's step, or
+// model.implicit.barrier_stiffness_dt if set (the same barrier at every step).
 double barrier_stiffness(double mass, double dt);
 
-// dhat of a model: kBarrierEdgeFraction of the mean rest edge length, m.
+// dhat of a model, m: model.implicit.barrier_distance if set (scene key
+// implicit.barrier_distance), else kBarrierEdgeFraction of the mean rest edge length.
 double barrier_distance(const Model& model);
 
 }  // namespace tissu

@@ -90,6 +90,9 @@ struct ImplicitOptions {
   LinearSolver linear_solver = LinearSolver::Cholesky;
   LineSearch line_search = LineSearch::Potential;
   ContactModel contact = ContactModel::Constraints;
+  double barrier_distance = 0.0;   // the barrier's dhat, m; 0: a quarter of the mean rest
+                                   // edge (barrier_contact.h)
+  double barrier_stiffness_dt = 0.0;  // s: the barrier's kappa is m / this^2; 0: the step dt
   int max_newton_iterations = 8;   // 1 = one Newton iteration (Baraff & Witkin); a step
                                    // the line search shortened, or whose contacts changed,
                                    // gets a few more (docs/implicit.md)

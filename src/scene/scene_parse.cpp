@@ -395,6 +395,12 @@ Scene parse_scene(const Json& doc, const std::string& file) {
     const std::string contact = im.choice("contact", {"constraints", "barrier"}, "constraints");
     scene.implicit.contact =
         contact == "constraints" ? ContactModel::Constraints : ContactModel::Barrier;
+    if (im.has("barrier_distance")) {
+      scene.implicit.barrier_distance = im.number("barrier_distance", Range::positive());
+    }
+    if (im.has("barrier_stiffness_dt")) {
+      scene.implicit.barrier_stiffness_dt = im.number("barrier_stiffness_dt", Range::positive());
+    }
     im.finish();
   }
   scene.max_speed = root.number("max_speed", 100.0, Range::positive());

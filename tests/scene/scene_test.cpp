@@ -112,6 +112,20 @@ TEST(SceneValidation, ImplicitContactModel) {
             "implicit.contact: unknown value \"penalty\"; expected one of constraints, barrier");
 }
 
+// The barrier's activation distance: unset (0, the quarter edge) by default, in m when given.
+TEST(SceneValidation, ImplicitBarrierDistance) {
+  Json doc = valid();
+  EXPECT_EQ(parse_scene(doc, "").implicit.barrier_distance, 0.0);
+  doc["implicit"] = Json::parse(R"({"contact": "barrier", "barrier_distance": 0.002})");
+  EXPECT_EQ(parse_scene(doc, "").implicit.barrier_distance, 0.002);
+  doc["implicit"] = Json::parse(R"({"barrier_distance": 0})");
+  EXPECT_EQ(parse_error(doc), "implicit.barrier_distance: must be > 0, got 0");
+  doc["implicit"] = Json::parse(R"({"barrier_stiffness_dt": 0.004})");
+  EXPECT_EQ(parse_scene(doc, "").implicit.barrier_stiffness_dt, 0.004);
+  doc["implicit"] = Json::parse(R"({"barrier_stiffness_dt": -1})");
+  EXPECT_EQ(parse_error(doc), "implicit.barrier_stiffness_dt: must be > 0, got -1");
+}
+
 TEST(SceneValidation, StepsAndDurationExclusive) {
   Json doc = valid();
   doc["duration"] = 1.0;
