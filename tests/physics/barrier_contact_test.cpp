@@ -197,26 +197,35 @@ double barrier_energy_of(const Sheet& s) {
   return total;
 }
 
-// A sheet dropped onto a sphere with large steps: no vertex ever ends a step at or inside
-// the sphere's thickness, and contact does no work: the total energy, the barrier's
-// included, never rises above its value at the start.
-TEST(Barrier, SheetDroppedOnASphereAtThirtyHertzNeverEndsInsideNorGainsEnergy) {
-  Sheet s = barrier_sheet(0.6, 14, 1.0 / 30.0);
-  const double radius = 0.15, thickness = 0.002;
-  s.model.obstacles.push_back(make_obstacle(ObstacleKind::Sphere, Vec3(0.02, -0.01, -radius - 0.05),
-                                            Vec3::UnitZ(), radius, 0.3, thickness));
-  s.model.air_damping = 0.3;
-  Workspace ws;
-  const double e0 = total_energy(s.model, s.state);
-  double closest = INFINITY, highest = -INFINITY;
-  for (int k = 0; k < 45; ++k) {
-    ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
-    closest = std::min(closest, gap_range(s, 0).first);
-    highest = std::max(highest, total_energy(s.model, s.state) + barrier_energy_of(s) - e0);
+// A sheet dropped onto a sphere with large steps, with backward Euler and BDF-2: no vertex
+// ever ends a step at or inside the sphere's thickness, and contact does no work: the total
+// energy, the barrier's included, never rises above its value at the start. (Implicit
+// midpoint fails the energy part: it gains 0.21 J at 1/60 s and 0.20 J at 1/30 s here;
+// docs/implicit.md, "A barrier instead of constraints".)
+TEST(Barrier, SheetDroppedOnASphereNeverEndsInsideNorGainsEnergy) {
+  for (Integrator integrator : {Integrator::BackwardEuler, Integrator::Bdf2}) {
+    for (double h : {1.0 / 60.0, 1.0 / 30.0}) {
+      SCOPED_TRACE(::testing::Message() << integrator_name(integrator) << " h = " << h);
+      Sheet s = barrier_sheet(0.6, 14, h);
+      s.model.integrator = integrator;
+      const double radius = 0.15, thickness = 0.002;
+      s.model.obstacles.push_back(make_obstacle(ObstacleKind::Sphere,
+                                                Vec3(0.02, -0.01, -radius - 0.05),
+                                                Vec3::UnitZ(), radius, 0.3, thickness));
+      s.model.air_damping = 0.3;
+      Workspace ws;
+      const double e0 = total_energy(s.model, s.state);
+      double closest = INFINITY, highest = -INFINITY;
+      for (int k = 0; k < static_cast<int>(1.5 / h); ++k) {
+        ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+        closest = std::min(closest, gap_range(s, 0).first);
+        highest = std::max(highest, total_energy(s.model, s.state) + barrier_energy_of(s) - e0);
+      }
+      EXPECT_GT(closest, 0.0);
+      EXPECT_LT(closest, barrier_distance(s.model)) << "the sheet lands on the sphere";
+      EXPECT_LE(highest, 1e-9);
+    }
   }
-  EXPECT_GT(closest, 0.0);
-  EXPECT_LT(closest, barrier_distance(s.model)) << "the sheet lands on the sphere";
-  EXPECT_LE(highest, 1e-9);
 }
 
 }  // namespace
