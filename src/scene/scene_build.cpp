@@ -78,10 +78,23 @@ void require_file_vertex_ids(const std::vector<PinSpec>& pins, const TriMesh& me
   }
 }
 
+// Pins every vertex whose position x satisfies inside(x); a region (at `path`) that
+// selects none is an error.
+template <typename Inside>
+void pin_region(const Vec3List& x, const std::string& path, std::vector<uint8_t>& pinned,
+                Inside inside) {
+  int selected = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (!inside(x[i])) continue;
+    pinned[i] = 1;
+    ++selected;
+  }
+  if (selected == 0) throw InputError(path + ": selects no vertex");
+}
+
 void apply_pins(const std::vector<PinSpec>& pins, const Vec3List& x, std::vector<uint8_t>& pinned) {
   const long long n = static_cast<long long>(x.size());
   for (const PinSpec& pin : pins) {
-    int selected = 0;
     for (size_t k = 0; k < pin.vertices.size(); ++k) {
       const long long id = pin.vertices[k];
       if (id >= n) {
@@ -90,29 +103,19 @@ void apply_pins(const std::vector<PinSpec>& pins, const Vec3List& x, std::vector
                          " vertices)");
       }
       pinned[id] = 1;
-      ++selected;
     }
     if (pin.box) {
       const auto& [lo, hi] = *pin.box;
-      for (long long i = 0; i < n; ++i) {
-        if ((x[i].array() >= lo.array()).all() && (x[i].array() <= hi.array()).all()) {
-          pinned[i] = 1;
-          ++selected;
-        }
-      }
-      if (selected == 0) throw InputError(pin.path + ".box: selects no vertex");
+      pin_region(x, pin.path + ".box", pinned, [&](const Vec3& p) {
+        return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
+      });
     }
     if (pin.disk) {
       // A relative 1e-9 keeps the vertices placed on a circle of that radius (a disk
       // mesh's inner_radius) despite rounding.
       const double reach = pin.disk->radius * (1.0 + 1e-9);
-      for (long long i = 0; i < n; ++i) {
-        if ((x[i] - pin.disk->center).norm() <= reach) {
-          pinned[i] = 1;
-          ++selected;
-        }
-      }
-      if (selected == 0) throw InputError(pin.path + ".disk: selects no vertex");
+      pin_region(x, pin.path + ".disk", pinned,
+                 [&](const Vec3& p) { return (p - pin.disk->center).norm() <= reach; });
     }
   }
 }
