@@ -124,13 +124,14 @@ double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u)
 }
 
 void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3List& x_end_base,
-                           double beta_end, double t, double t_end) {
+                           double beta, double beta_end, double t, double t_end) {
   enabled_ = model.implicit.contact == ContactModel::Barrier;
   placed_.clear();
   friction_.clear();
   if (!enabled_) return;
   model_ = &model;
   x_end_base_ = &x_end_base;
+  beta_ = beta;
   beta_end_ = beta_end;
   dhat_ = barrier_distance(model);
   const int n = model.num_vertices();
@@ -149,7 +150,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
       const Gap g = obstacle_gap(start, x_n[i]);
       if (g.d <= 0.0 || g.d >= dhat_) continue;
       const double normal_impulse =
-          -beta_end * barrier_derivative(g.d, dhat_, kappa_[i]);  // kg*m/s
+          -beta_ * barrier_derivative(g.d, dhat_, kappa_[i]);  // kg*m/s
       friction_.push_back({i, SlidingFriction{g.normal, g.surface_velocity,
                                               ob.friction * normal_impulse}});
     }
@@ -179,6 +180,7 @@ double BarrierContact::potential(const Vec3List& v) const {
       total += barrier_energy(obstacle_gap(o, x).d, dhat_, kappa_[i]);
     }
   }
+  total *= beta_ / beta_end_;
   for (const Friction& f : friction_) total += f.law.potential(v[f.vertex]);
   return total;
 }
@@ -197,13 +199,13 @@ void BarrierContact::for_each_term(const Vec3List& v, Visit visit) const {
 
 void BarrierContact::add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const {
   if (!enabled_) return;
-  for_each_term(v, [&](int i, const BarrierTerm& b) { rhs.segment<3>(3 * i) -= beta_end_ * b.gradient; });
+  for_each_term(v, [&](int i, const BarrierTerm& b) { rhs.segment<3>(3 * i) -= beta_ * b.gradient; });
   for (const Friction& f : friction_) rhs.segment<3>(3 * f.vertex) += f.law.impulse(v[f.vertex]);
 }
 
 void BarrierContact::add_hessian(const Vec3List& v, SystemMatrix& system) const {
   if (!enabled_) return;
-  const double scale = beta_end_ * beta_end_;  // s^2
+  const double scale = beta_ * beta_end_;  // s^2
   for_each_term(v, [&](int i, const BarrierTerm& b) { system.add_diagonal(i, scale * b.hessian); });
   for (const Friction& f : friction_) system.add_diagonal(f.vertex, f.law.jacobian(v[f.vertex]));
 }

@@ -68,17 +68,21 @@ BarrierTerm vertex_barrier(const PlacedObstacle& obstacle, const Vec3& p, double
 // distance for a capped cylinder, which returns a t at or before it).
 double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u);
 
-// The barrier contacts of one implicit step. End positions are x_end(v) = x_end_base +
-// beta_end v; the barrier acts on them, so its impulse on the step equation is
-// -beta_end grad B and its matrix beta_end^2 Hess B.
+// The barrier contacts of one implicit step, whose equation applies the forces with weight
+// beta: M (v - v_base) = beta f + ... End positions are x_end(v) = x_end_base + beta_end v;
+// the barrier acts on them like the other forces, so its impulse on the step equation is
+// -beta grad B(x_end), its matrix beta beta_end Hess B and its share of the incremental
+// potential (beta / beta_end) B. (Backward Euler and BDF-2: beta = beta_end. The midpoint
+// rule solves for the midpoint velocity w with beta = h / 2 and ends at x_n + h w: its
+// step v_{n+1} - v_n = 2 (w - v_n) then takes the impulse -h grad B(x_end).)
 class BarrierContact {
  public:
   // At the start of a step from positions x_n at t (s) to t_end: the analytic obstacles
   // placed at t_end, and the lagged friction of every vertex within dhat of an obstacle
-  // with friction at x_n (normal impulse beta_end |b'(d)|). Without the barrier model
+  // with friction at x_n (normal impulse beta |b'(d)|). Without the barrier model
   // (model.implicit.contact) it clears itself and every call below does nothing.
   void begin(const Model& model, const Vec3List& x_n, const Vec3List& x_end_base,
-             double beta_end, double t, double t_end);
+             double beta, double beta_end, double t, double t_end);
   bool enabled() const { return enabled_; }
 
   double dhat() const { return dhat_; }
@@ -87,12 +91,12 @@ class BarrierContact {
   // obstacle out to dhat / 2 (the initial guess of the solve must be feasible).
   void make_feasible(Vec3List& v) const;
 
-  // The barrier energy at x_end(v) plus the friction potential at v (J); +infinity where
-  // a vertex is at or beyond d = 0.
+  // (beta / beta_end) times the barrier energy at x_end(v) plus the friction potential at
+  // v (J); +infinity where a vertex is at or beyond d = 0.
   double potential(const Vec3List& v) const;
-  // Adds -beta_end grad B(x_end(v)) and the friction impulses F(v) to rhs (3V), kg*m/s.
+  // Adds -beta grad B(x_end(v)) and the friction impulses F(v) to rhs (3V), kg*m/s.
   void add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const;
-  // Adds beta_end^2 Hess B (PSD part) and -dF/dv to the system's diagonal blocks, kg.
+  // Adds beta beta_end Hess B (PSD part) and -dF/dv to the system's diagonal blocks, kg.
   void add_hessian(const Vec3List& v, SystemMatrix& system) const;
   // The largest step length along dv (3V), at most 1, that keeps every vertex at d > 0:
   // kBarrierStepFraction of the first touch.
@@ -111,6 +115,7 @@ class BarrierContact {
   bool enabled_ = false;
   const Model* model_ = nullptr;
   const Vec3List* x_end_base_ = nullptr;
+  double beta_ = 0.0;      // s
   double beta_end_ = 0.0;  // s
   double dhat_ = 0.0;      // m
   std::vector<PlacedObstacle> placed_;  // at the end of the step

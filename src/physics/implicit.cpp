@@ -411,7 +411,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   s.placed.clear();
   // With the barrier model only mesh obstacles are constraints; the barrier takes the others
   // and the solve starts from end positions outside them.
-  s.barrier.begin(model, state.x, s.x_end_base, eq.beta_end, eq.t, eq.t_end);
+  s.barrier.begin(model, state.x, s.x_end_base, eq.beta, eq.beta_end, eq.t, eq.t_end);
   for (const Obstacle& ob : model.obstacles) {
     if (s.barrier.enabled() && ob.kind != ObstacleKind::Mesh) continue;
     s.placed.push_back(place_obstacle(ob, eq.t_end));

@@ -151,16 +151,25 @@ std::pair<double, double> gap_range(const Sheet& s, int o) {
   return {lo, hi};
 }
 
+constexpr double kPlaneThickness = 0.002;  // m
+
+// A sheet of the given size (m) and cells laid half dhat above a plane at z = 0 with
+// kPlaneThickness and the given friction coefficient, for steps of dt (s).
+Sheet sheet_laid_on_a_plane(double size, int nx, double dt, double friction) {
+  Sheet s = barrier_sheet(size, nx, dt);
+  s.model.obstacles.push_back(make_obstacle(ObstacleKind::Plane, Vec3::Zero(), Vec3::UnitZ(),
+                                            0, friction, kPlaneThickness));
+  const double dhat = barrier_distance(s.model);
+  for (Vec3& p : s.state.x) p.z() = kPlaneThickness + 0.5 * dhat;
+  return s;
+}
+
 // A sheet laid on a plane with friction at half dhat, at 1/30 s: it settles within a second
 // steps onto the gap where the barrier holds its weight, inside dhat, and then stays there
 // (no creep along the plane, no bounce off it).
 TEST(Barrier, SheetRestingOnAPlaneNeitherCreepsNorBounces) {
-  Sheet s = barrier_sheet(0.4, 8, 1.0 / 30.0);
-  const double thickness = 0.002;  // m
-  s.model.obstacles.push_back(
-      make_obstacle(ObstacleKind::Plane, Vec3::Zero(), Vec3::UnitZ(), 0, 0.5, thickness));
+  Sheet s = sheet_laid_on_a_plane(0.4, 8, 1.0 / 30.0, 0.5);
   const double dhat = barrier_distance(s.model);
-  for (Vec3& p : s.state.x) p.z() = thickness + 0.5 * dhat;
   Workspace ws;
   for (int k = 0; k < 30; ++k) ASSERT_FALSE(step(s.model, s.state, ws)) << "settling step " << k;
   const Vec3List settled = s.state.x;
@@ -180,6 +189,29 @@ TEST(Barrier, SheetRestingOnAPlaneNeitherCreepsNorBounces) {
   EXPECT_LT(drift, 1e-10);
   EXPECT_LT(slide, 1e-12);
   EXPECT_LT(speed, 1e-9);
+}
+
+// A sheet laid on a plane settles, with each implicit method, on the gap where the barrier
+// holds its weight: |b'(d)| = m g per vertex. The midpoint rule's barrier acts on the
+// end of the step like its other forces, so it pushes no harder than with the other
+// methods (it once pushed twice as hard, and settled where |b'| = m g / 2).
+TEST(Barrier, EveryMethodRestsWhereTheBarrierHoldsTheWeight) {
+  for (Integrator integrator :
+       {Integrator::BackwardEuler, Integrator::Bdf2, Integrator::ImplicitMidpoint}) {
+    SCOPED_TRACE(integrator_name(integrator));
+    Sheet s = sheet_laid_on_a_plane(0.3, 6, 1.0 / 60.0, 0.0);
+    s.model.integrator = integrator;
+    s.model.air_damping = 1.0;
+    const double dhat = barrier_distance(s.model);
+    Workspace ws;
+    for (int k = 0; k < 240; ++k) ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+    for (int i = 0; i < s.model.num_vertices(); ++i) {
+      const double d = s.state.x[i].z() - kPlaneThickness;
+      const double kappa = barrier_stiffness(s.model.mass[i], s.model.dt);
+      const double weight = s.model.mass[i] * s.model.gravity->norm();  // N
+      EXPECT_NEAR(-barrier_derivative(d, dhat, kappa), weight, 1e-3 * weight) << "vertex " << i;
+    }
+  }
 }
 
 // --- A sphere ---------------------------------------------------------------------------
