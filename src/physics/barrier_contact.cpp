@@ -29,6 +29,16 @@ double barrier_second_derivative(double d, double dhat, double kappa) {
 
 double barrier_stiffness(double mass, double dt) { return mass / (dt * dt); }
 
+namespace {
+
+// The step in kappa = m / dt^2, s.
+double stiffness_step(const Model& model) {
+  return model.implicit.barrier_stiffness_dt > 0.0 ? model.implicit.barrier_stiffness_dt
+                                                   : model.dt;
+}
+
+}  // namespace
+
 double barrier_distance(const Model& model) {
   if (model.implicit.barrier_distance > 0.0) return model.implicit.barrier_distance;
   double edges = 0.0;  // m
@@ -37,6 +47,21 @@ double barrier_distance(const Model& model) {
   }
   const double count = 3.0 * std::max(1, model.num_triangles());
   return kBarrierEdgeFraction * edges / count;
+}
+
+double barrier_energy_of(const Model& model, const Vec3List& x, double t) {
+  const double dhat = barrier_distance(model), dt = stiffness_step(model);
+  double total = 0.0;
+  for (const Obstacle& ob : model.obstacles) {
+    if (ob.kind == ObstacleKind::Mesh) continue;
+    const PlacedObstacle placed = place_obstacle(ob, t);
+    for (int i = 0; i < model.num_vertices(); ++i) {
+      if (model.pinned[i]) continue;
+      const double d = obstacle_gap(placed, x[i]).d;
+      total += barrier_energy(d, dhat, barrier_stiffness(model.mass[i], dt));
+    }
+  }
+  return total;
 }
 
 Gap obstacle_gap(const PlacedObstacle& obstacle, const Vec3& p) {
@@ -136,8 +161,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   dhat_ = barrier_distance(model);
   const int n = model.num_vertices();
   kappa_.resize(n);
-  const double stiffness_dt =
-      model.implicit.barrier_stiffness_dt > 0.0 ? model.implicit.barrier_stiffness_dt : model.dt;
+  const double stiffness_dt = stiffness_step(model);
   for (int i = 0; i < n; ++i) kappa_[i] = barrier_stiffness(model.mass[i], stiffness_dt);
   for (const Obstacle& ob : model.obstacles) {
     if (ob.kind == ObstacleKind::Mesh) continue;

@@ -131,6 +131,10 @@ class BarrierContact {
 // model.implicit.barrier_stiffness_dt if set (the same barrier at every step).
 double barrier_stiffness(double mass, double dt);
 
+// The barrier energy of positions x at time t (s) against the model's sphere, cylinder and
+// plane obstacles, J: what the barrier model adds to the total energy of a state.
+double barrier_energy_of(const Model& model, const Vec3List& x, double t);
+
 // dhat of a model, m: model.implicit.barrier_distance if set (scene key
 // implicit.barrier_distance), else kBarrierEdgeFraction of the mean rest edge length.
 double barrier_distance(const Model& model);
