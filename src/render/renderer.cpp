@@ -9,13 +9,13 @@
 #include "render/draw/ground_geometry.h"
 #include "render/draw/obstacle_meshes.h"
 #include "render/draw/shadow_map.h"
-#include "render/draw/text_overlay.h"
 #include "render/draw/view_math.h"
 #include "render/gl/offscreen_context.h"
 #include "render/gl/pass_timer.h"
 #include "render/gl/shader_files.h"
 #include "render/gl/shader_program.h"
 #include "render/image/fxaa.h"
+#include "render/image/text_overlay.h"
 #include "render/render_error.h"
 #include "render/scene_bounds.h"
 #include "render/up_axis.h"
@@ -100,7 +100,7 @@ struct Renderer::Impl {
         shadow("shadow.vert", "shadow.frag", shader_dirs),
         solid("obstacle.vert", "obstacle.frag", shader_dirs, lit_defines(s)),
         plane("obstacle.vert", "obstacle.frag", shader_dirs, lit_defines(s, {"PLANE"})),
-        text(shader_dirs, s.width, s.height),
+        text(s.width, s.height),
         background_vao(make_vertex_array()),
         background_vertices(make_buffer()) {
     glBindVertexArray(background_vao.get());
@@ -168,6 +168,7 @@ struct Renderer::Impl {
   std::unique_ptr<ShaderProgram> ground, ground_opaque;
   std::unique_ptr<ShaderProgram> ground_shadowed, ground_shadowed_opaque;
   TextOverlay text;
+  std::vector<std::string> overlay_lines;  // the last frame's corner text
   GlVertexArray background_vao;
   GlBuffer background_vertices;
   MeshBuffer cloth_corners_mesh, sphere, small_sphere, cylinder, square;
@@ -269,8 +270,7 @@ void Renderer::Impl::draw(const FrameContent& content) {
     if (o.kind == ObstacleShape::Kind::Plane && &o != merged) draw_plane(o, kPlaneColor);
   }
   timer.lap("planes");
-  text.draw(settings.caption, content.overlay_lines);
-  timer.lap("text");
+  overlay_lines = content.overlay_lines;  // blended in after the read-back
   check_gl("renderer: drawing a frame");
   has_frame = true;
 }
@@ -595,6 +595,8 @@ void Renderer::read_rgb(std::vector<uint8_t>& out) {
   impl_->context.make_current();
   impl_->timer.start();
   impl_->context.read_rgb(out, &impl_->timer);
+  impl_->text.blend(impl_->settings.caption, impl_->overlay_lines, out);
+  impl_->timer.lap("text (CPU)");
   if (impl_->settings.fxaa) {
     fxaa_rgb(out, impl_->context.width(), impl_->context.height(), impl_->fxaa_scratch);
     impl_->timer.lap("FXAA (CPU)");
