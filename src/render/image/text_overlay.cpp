@@ -16,13 +16,32 @@ struct TextColor {
 const TextColor kTextColor{0.97f, 0.97f, 0.97f, 1.0f};
 const TextColor kShadowColor{0.0f, 0.0f, 0.0f, 0.55f};
 
-// Blends the glyph cells of `quads`, shifted by `offset` pixels, in `color` with the
-// atlas coverage as alpha: out = color * alpha + out * (1 - alpha), clipped to the image.
+// For each coverage 0..255, the blend out = color * alpha + out * (1 - alpha) with
+// alpha = color.a * coverage / 255, in 16-bit fixed point: out = (add + out * keep) >> 16.
+struct BlendTable {
+  explicit BlendTable(const TextColor& color) {
+    const float source[3] = {color.r * 255.0f, color.g * 255.0f, color.b * 255.0f};
+    for (int cover = 0; cover < 256; ++cover) {
+      const double alpha = color.a * (cover / 255.0);
+      keep[cover] = static_cast<uint32_t>(std::lround((1.0 - alpha) * 65536.0));
+      for (int c = 0; c < 3; ++c) {
+        add[cover][c] = static_cast<uint32_t>(std::lround(source[c] * alpha * 65536.0)) + 32768;
+      }
+    }
+  }
+  uint32_t keep[256];
+  uint32_t add[256][3];
+};
+
+const BlendTable kTextBlend(kTextColor);
+const BlendTable kShadowBlend(kShadowColor);
+
+// Blends the glyph cells of `quads`, shifted by `offset` pixels, with the atlas coverage
+// as alpha, clipped to the image.
 void blend_quads(const FontAtlas& font, const std::vector<GlyphQuad>& quads, int offset,
-                 const TextColor& color, int width, int height, std::vector<uint8_t>& rgb) {
+                 const BlendTable& table, int width, int height, std::vector<uint8_t>& rgb) {
   const int size = font.atlas_size();
   const std::vector<uint8_t>& atlas = font.pixels();
-  const float source[3] = {color.r * 255.0f, color.g * 255.0f, color.b * 255.0f};
   for (const GlyphQuad& q : quads) {
     const int x0 = static_cast<int>(std::lround(q.x0)) + offset;
     const int y0 = static_cast<int>(std::lround(q.y0)) + offset;
@@ -34,11 +53,10 @@ void blend_quads(const FontAtlas& font, const std::vector<GlyphQuad>& quads, int
       const uint8_t* cover = atlas.data() + static_cast<size_t>(t0 + j) * size + s0;
       uint8_t* px = rgb.data() + (static_cast<size_t>(y0 + j) * width + x0) * 3;
       for (int i = std::max(0, -x0); i < w && x0 + i < width; ++i) {
-        if (cover[i] == 0) continue;
-        const float alpha = color.a * (cover[i] / 255.0f);
+        const uint8_t k = cover[i];
+        if (k == 0) continue;
         for (int c = 0; c < 3; ++c) {
-          const float v = source[c] * alpha + px[3 * i + c] * (1.0f - alpha);
-          px[3 * i + c] = static_cast<uint8_t>(std::lround(v));
+          px[3 * i + c] = static_cast<uint8_t>((table.add[k][c] + px[3 * i + c] * table.keep[k]) >> 16);
         }
       }
     }
@@ -63,8 +81,8 @@ void TextOverlay::blend(const std::string& caption, const std::vector<std::strin
   const float margin = std::round(std::max(4.0f, height_ * 0.025f));
   const int shadow_offset = static_cast<int>(std::max(1.0f, std::round(height_ / 500.0f)));
   auto blend_with_shadow = [&](const FontAtlas& f) {
-    blend_quads(f, quads_, shadow_offset, kShadowColor, width_, height_, rgb);
-    blend_quads(f, quads_, 0, kTextColor, width_, height_, rgb);
+    blend_quads(f, quads_, shadow_offset, kShadowBlend, width_, height_, rgb);
+    blend_quads(f, quads_, 0, kTextBlend, width_, height_, rgb);
   };
 
   if (!caption.empty()) {
