@@ -638,6 +638,50 @@ TEST(Bending, NeedleAndCapTriangles) {
   }
 }
 
+// Q is assembled row by row from the stencils; it must be the matrix (same pattern, same
+// bits) that a triplet list in stencil order gives, on meshes with boundaries, clamped
+// triangles and anisotropic rigidities.
+TEST(Bending, StiffnessIsTheSumOfTheStencilTerms) {
+  const TriMesh irregular = generate_rectangle(0.5, 0.3, 900, true, 5);
+  const TriMesh disk = generate_disk(0.15, 700, true, 2);
+  const Sheet grid = grid_sheet(9, 7, 0.3, 0.2, 0.25, true, 17);
+  struct Case {
+    TriList triangles;
+    Vec2List uv;
+  };
+  for (const Case& m : {Case{irregular.triangles, irregular.rest_uv},
+                        Case{disk.triangles, disk.rest_uv}, Case{grid.triangles, grid.uv}}) {
+    std::vector<uint8_t> pinned(m.uv.size(), 0);
+    for (size_t v = 0; v < m.uv.size(); ++v) pinned[v] = m.uv[v].x() < m.uv[0].x() + 0.03;
+    const BendingModel model = build_bending(m.triangles, m.uv, 2e-4, 5e-5, pinned);
+    ASSERT_GT(model.clamped_triangles, 0);
+    const double c_uu = model.bending_weft, c_vv = model.bending_warp, c_uv = 4 * model.twist;
+    std::vector<Eigen::Triplet<double>> entries;
+    for (const BendingStencil& st : model.stencils) {
+      for (size_t a = 0; a < st.vertex.size(); ++a) {
+        for (size_t b = 0; b < st.vertex.size(); ++b) {
+          entries.emplace_back(st.vertex[a], st.vertex[b],
+                               st.area * (c_uu * st.w_uu[a] * st.w_uu[b] +
+                                          c_vv * st.w_vv[a] * st.w_vv[b] +
+                                          c_uv * st.w_uv[a] * st.w_uv[b]));
+        }
+      }
+    }
+    Eigen::SparseMatrix<double, Eigen::RowMajor> expected(model.num_vertices, model.num_vertices);
+    expected.setFromTriplets(entries.begin(), entries.end());
+    ASSERT_EQ(model.stiffness.nonZeros(), expected.nonZeros());
+    for (int r = 0; r < model.num_vertices; ++r) {
+      Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator got(model.stiffness, r);
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator want(expected, r); want;
+           ++want, ++got) {
+        ASSERT_TRUE(got) << "row " << r;
+        ASSERT_EQ(got.col(), want.col()) << "row " << r;
+        ASSERT_EQ(got.value(), want.value()) << "row " << r << ", column " << want.col();
+      }
+    }
+  }
+}
+
 TEST(Bending, NegativeWarpMeansIsotropic) {
   const Sheet s = grid_sheet(5, 4, 0.2, 0.2, 0.2, true, 81);
   const BendingModel a = build_bending(s.triangles, s.uv, 3e-4, -1.0);
