@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <random>
 
 #include "collision/bvh.h"
 #include "core/cpu_clock.h"
@@ -169,6 +170,10 @@ struct ClothContact::Impl {
 
   // ---- candidate lists ----
   std::vector<Pair> pairs;
+  // What the broad phase found in a build, and its sorting (buffers reused).
+  std::vector<Box3> query_boxes;
+  std::vector<std::array<int, 2>> found_pairs, sorted_pairs;
+  std::vector<int> bucket_first, bucket_next;
   // What select_active reads of each pair, packed: its points, whether it is an edge pair
   // and counts world displacements (an obstacle pair), and how far its points may move
   // together before it may matter (distance at the build less its threshold, rounded
@@ -255,6 +260,15 @@ struct ClothContact::Impl {
   bool ends_in_regions() const;
   void rebuild();
   void add_self_pairs(double reach);
+  void sort_id_pairs(std::vector<std::array<int, 2>>& list, int count);
+  // Tests: the broad phase's pairs in an order shuffled by this seed (0: as found).
+  uint64_t shuffle_seed = 0;
+  template <class T>
+  void shuffle_found(std::vector<T>& list) {
+    if (shuffle_seed == 0) return;
+    std::mt19937_64 random(shuffle_seed++);
+    std::shuffle(list.begin(), list.end(), random);
+  }
   void add_mesh_pairs(MeshFeatures& mesh, double reach);
   int kinematic_point(MeshFeatures& mesh, int mesh_index, int vertex);
   void select_active();
@@ -537,11 +551,6 @@ void ClothContact::Impl::add_self_pairs(double thickness) {
     b.extend(region[edges[e][1]]);
     edge_boxes[e] = Box3(b.min() - pad, b.max() + pad);
   }
-  if (edge_tree.empty()) {
-    edge_tree.build(edge_boxes, kLeafSize);
-  } else {
-    edge_tree.refit(edge_boxes);
-  }
   const double friction = m.self_collision->friction;
   auto rest = [&](int id) { return Vec3(m.rest_uv[id].x(), m.rest_uv[id].y(), 0.0); };
   // Neighbours in the fabric: closer than the thickness in the rest shape (a box test
@@ -567,29 +576,48 @@ void ClothContact::Impl::add_self_pairs(double thickness) {
     }
     return false;
   };
-  // Vertex against triangle.
+  // The pairs go into the lists in a canonical order (by their primitives' ids), not in
+  // the order the broad phase finds them: the order of the lists is the order in which
+  // proximity and detection apply their impulses, so the stage's result depends only on
+  // which pairs were found.
+  // Vertex against triangle: the pairs (vertex, triangle) by vertex, then triangle id.
+  std::vector<Box3>& vertex_boxes = query_boxes;
+  vertex_boxes.resize(V);
+  for (int i = 0; i < V; ++i) vertex_boxes[i] = Box3(region[i].min() - pad, region[i].max() + pad);
+  std::vector<std::array<int, 2>>& hits = found_pairs;
+  hits.clear();
+  auto vertex_triangle = [&](int i, int t) {
+    const Tri& tri = m.triangles[t];
+    if (tri[0] == i || tri[1] == i || tri[2] == i) return;
+    if (!movable({i, tri[0], tri[1], tri[2]})) return;
+    Box3 tb = region[tri[0]];
+    tb.extend(region[tri[1]]);
+    tb.extend(region[tri[2]]);
+    if (box_distance(region[i], tb) >= thickness) return;
+    hits.push_back({i, t});
+  };
   for (int i = 0; i < V; ++i) {
-    const Box3 query(region[i].min() - pad, region[i].max() + pad);
-    triangle_tree.for_each_overlap(query, [&](int t) {
-      const Tri& tri = m.triangles[t];
-      if (tri[0] == i || tri[1] == i || tri[2] == i) return;
-      if (!movable({i, tri[0], tri[1], tri[2]})) return;
-      Box3 tb = region[tri[0]];
-      tb.extend(region[tri[1]]);
-      tb.extend(region[tri[2]]);
-      if (box_distance(region[i], tb) >= thickness) return;
-      Pair pair;
-      pair.p = {i, tri[0], tri[1], tri[2]};
-      pair.thickness = thickness;
-      pair.friction = friction;
-      const Vec3* x[4] = {&(*x0)[i], &(*x0)[tri[0]], &(*x0)[tri[1]], &(*x0)[tri[2]]};
-      pair.built_distance = closest_of(pair, x).distance;
-      pair.repel = apart_at_rest(pair);
-      pairs.push_back(pair);
-    });
+    triangle_tree.for_each_overlap(vertex_boxes[i], [&](int t) { vertex_triangle(i, t); });
   }
-  // Edge against edge.
-  edge_tree.for_each_self_overlap([&](int e, int f) {
+  shuffle_found(hits);
+  sort_id_pairs(hits, V);
+  for (const auto& it : hits) {
+    const int i = it[0];
+    const Tri& tri = m.triangles[it[1]];
+    Pair pair;
+    pair.p = {i, tri[0], tri[1], tri[2]};
+    pair.thickness = thickness;
+    pair.friction = friction;
+    const Vec3* x[4] = {&(*x0)[i], &(*x0)[tri[0]], &(*x0)[tri[1]], &(*x0)[tri[2]]};
+    pair.built_distance = closest_of(pair, x).distance;
+    pair.repel = apart_at_rest(pair);
+    pairs.push_back(pair);
+  }
+  // Edge against edge: the pairs (e, f), e < f, by e then f (edges are sorted by their
+  // vertex ids, so this is the order of the pairs' vertex ids).
+  std::vector<std::array<int, 2>>& near = found_pairs;
+  near.clear();
+  auto edge_edge = [&](int e, int f) {
     const auto &a = edges[e], &b = edges[f];
     if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return;
     if (!movable({a[0], a[1], b[0], b[1]})) return;
@@ -597,8 +625,19 @@ void ClothContact::Impl::add_self_pairs(double thickness) {
     ba.extend(region[a[1]]);
     bb.extend(region[b[1]]);
     if (box_distance(ba, bb) >= thickness) return;
+    near.push_back({std::min(e, f), std::max(e, f)});
+  };
+  if (edge_tree.empty()) {
+    edge_tree.build(edge_boxes, kLeafSize);
+  } else {
+    edge_tree.refit(edge_boxes);
+  }
+  edge_tree.for_each_self_overlap(edge_edge);
+  shuffle_found(near);
+  sort_id_pairs(near, static_cast<int>(edges.size()));
+  for (const auto& ef : near) {
+    const auto &lo = edges[ef[0]], &hi = edges[ef[1]];
     Pair pair;
-    const auto &lo = edges[std::min(e, f)], &hi = edges[std::max(e, f)];
     pair.p = {lo[0], lo[1], hi[0], hi[1]};
     pair.edge_edge = true;
     pair.thickness = thickness;
@@ -607,7 +646,22 @@ void ClothContact::Impl::add_self_pairs(double thickness) {
     pair.built_distance = closest_of(pair, x).distance;
     pair.repel = apart_at_rest(pair);
     pairs.push_back(pair);
-  });
+  }
+}
+
+// Sorts pairs of ids (a, b), 0 <= a < count, by a, then b: counted into one bucket per
+// a, each bucket then sorted (a primitive meets a few dozen others at most).
+void ClothContact::Impl::sort_id_pairs(std::vector<std::array<int, 2>>& list, int count) {
+  std::vector<int>& first = bucket_first;
+  first.assign(count + 1, 0);
+  for (const auto& ab : list) ++first[ab[0] + 1];
+  for (int a = 0; a < count; ++a) first[a + 1] += first[a];
+  std::vector<std::array<int, 2>>& sorted = sorted_pairs;
+  sorted.resize(list.size());
+  bucket_next.assign(first.begin(), first.end() - 1);
+  for (const auto& ab : list) sorted[bucket_next[ab[0]]++] = ab;
+  for (int a = 0; a < count; ++a) std::sort(sorted.begin() + first[a], sorted.begin() + first[a + 1]);
+  list.swap(sorted);
 }
 
 void ClothContact::Impl::add_mesh_pairs(MeshFeatures& f, double thickness) {
@@ -1192,6 +1246,7 @@ void ClothContact::Impl::collide(ContactStats& stats) {
 }
 
 ClothContact::ClothContact() : impl_(std::make_unique<Impl>()) {}
+void ClothContact::shuffle_broad_phase(uint64_t seed) { impl_->shuffle_seed = seed; }
 ClothContact::~ClothContact() = default;
 
 ContactStats ClothContact::resolve(const Model& model, double t0, double dt, const Vec3List& x0,

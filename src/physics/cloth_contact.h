@@ -38,8 +38,10 @@
 // less how far its vertices have moved since, exceeds its thickness is skipped. Such a
 // pair is not even looked at again until a bound on that motion (the largest motion of
 // any vertex, summed over the steps since, plus the largest within the step) may have
-// used up its slack, so far pairs cost nothing per step. Tested in
-// tests/physics/cloth_contact_test.
+// used up its slack, so far pairs cost nothing per step. The lists are kept in an order
+// of their own (by the pairs' primitive ids), the order in which impulses are applied:
+// neither the broad phase that found the pairs nor the order it found them in changes
+// the result. Tested in tests/physics/cloth_contact_test.
 #pragma once
 
 #include <cstdint>
@@ -93,6 +95,11 @@ class ClothContact {
   // end position by dt dv). x0 must be free of crossings for the end to be.
   ContactStats resolve(const Model& model, double t0, double dt, const Vec3List& x0, Vec3List& x1,
                        Vec3List& v);
+
+  // For tests: from now on the broad phase hands its pairs over in an order shuffled by
+  // `seed` (0: in the order it finds them). The result must not change: the stage puts
+  // the pairs in a canonical order of its own.
+  void shuffle_broad_phase(uint64_t seed);
 
  private:
   struct Impl;

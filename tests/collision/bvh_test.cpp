@@ -115,10 +115,10 @@ std::vector<Box3> folded_sheet_edge_boxes() {
   return boxes;
 }
 
-// The order in which self-overlap visits its pairs decides the order of the collision
-// stage's pair lists, and so its bits: it must stay that of the full double loop over
+// The order in which self-overlap visits its pairs is that of the full double loop over
 // every pair of leaves (the values below are that traversal's, before its leaves were
-// pruned against each other's boxes).
+// pruned against each other's boxes). The collision stage puts the pairs it is given in
+// an order of its own, so its bits no longer depend on this one.
 TEST(Bvh, SelfPairsKeepTheirOrder) {
   std::vector<Box3> boxes = random_boxes(1500, 7);
   for (Box3& b : boxes) b = Box3(b.min() - Vec3::Constant(0.4), b.max() + Vec3::Constant(0.4));
