@@ -38,10 +38,10 @@
 // less how far its vertices have moved since, exceeds its thickness is skipped. Such a
 // pair is not even looked at again until a bound on that motion (the largest motion of
 // any vertex, summed over the steps since, plus the largest within the step) may have
-// used up its slack, so far pairs cost nothing per step. The lists are kept in an order
-// of their own (by the pairs' primitive ids), the order in which impulses are applied:
-// neither the broad phase that found the pairs nor the order it found them in changes
-// the result. Tested in tests/physics/cloth_contact_test.
+// used up its slack, so far pairs cost nothing per step. Self pairs are kept in an order
+// of their own (by their primitive ids), the order their impulses are applied in: neither
+// the broad phase that found them nor the order it found them in changes the result.
+// Tested in tests/physics/cloth_contact_test.
 #pragma once
 
 #include <cstdint>
