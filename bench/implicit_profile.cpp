@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
   std::printf("%6s %8s %4s %6s %6s %8s %8s\n", "step", "t s", "sub", "newton", "cg",
               "contacts", "ms");
   double total = 0.0;
-  long long newton = 0, cg = 0;
+  long long newton = 0, cg = 0, factorizations = 0;
   for (long long k = 0; k < scene.steps; ++k) {
     const std::clock_t t0 = std::clock();
     const auto divergence = step(sim.model, sim.state, ws);
@@ -87,6 +87,7 @@ int main(int argc, char** argv) {
     total += ms;
     newton += ws.newton_iterations;
     cg += ws.cg_iterations;
+    factorizations += ws.factorizations;
     const ImplicitReport* r = last_implicit_report(ws);
     if (r && (k % every == 0 || divergence)) {
       std::printf("%6lld %8.4f %4d %6d %6d %8d %8.1f\n", k, sim.state.t, ws.substeps,
@@ -98,8 +99,11 @@ int main(int argc, char** argv) {
       break;
     }
   }
-  std::printf("total %.1f ms over %lld steps: %.2f ms/step, %.2f Newton/step, %.1f CG/Newton\n",
-              total, scene.steps, total / scene.steps, double(newton) / scene.steps,
-              double(cg) / std::max(1LL, newton));
+  std::printf(
+      "total %.1f ms over %lld steps: %.2f ms/step, %.2f Newton/step, %.1f CG/step, %.1f "
+      "CG/Newton, %.2f factorizations/step\n",
+      total, scene.steps, total / scene.steps, double(newton) / scene.steps,
+      double(cg) / scene.steps, double(cg) / std::max(1LL, newton),
+      double(factorizations) / scene.steps);
   return 0;
 }

@@ -364,9 +364,10 @@ class Merit {
 // active-set Newton method): released where they pull, switched between stick and slide,
 // added where the iterate would end inside an obstacle. A backtracking line search on the
 // merit (incremental potential or residual) picks each step length. Newton stops when the
-// residual is below newton_tolerance times the initial one after a whole step that changed
-// no contact, or after max_newton_iterations iterations if the last was such a step, or
-// after kExtraNewtonIterations more.
+// residual is below newton_tolerance times the initial one (or, with newton_motion_tolerance,
+// the step moved no end position by more than that) after a whole step that changed no
+// contact, or after max_newton_iterations iterations if the last was such a step, or after
+// kExtraNewtonIterations more.
 void newton_solve(const Model& model, const State& state, Workspace& ws, ImplicitSolver& s,
                   const StepEquation& eq) {
   const int n = model.num_vertices();
@@ -561,7 +562,11 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     report.seconds_residual += processor_seconds_since(t0);
     report.residuals.push_back(r);
     settled = accepted == 1.0 && contact_changes == 0;
-    report.converged = (r <= target);
+    // The residual rule, or (newton_motion_tolerance) a whole step that moved every end
+    // position by less than the tolerance: the next would move them by far less.
+    const bool small_motion = settled && opt.newton_motion_tolerance > 0.0 &&
+                              largest_change * eq.beta_end <= opt.newton_motion_tolerance;
+    report.converged = small_motion || r <= target;
     // Converged with these contacts: sticking ones the friction cone cannot hold slide, and
     // Newton goes on.
     if (report.converged && settled && s.contacts.switch_modes() > 0) {
@@ -594,6 +599,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   }
   ws.newton_iterations = report.newton_iterations;
   ws.cg_iterations = report.cg_iterations;
+  ws.factorizations = report.factorizations;
 }
 
 ImplicitSolver& solver_of(Workspace& ws) {
@@ -872,7 +878,7 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   const State start = state;
   const ContactSet contacts = s.contacts;
   method_step(model, state, ws, h, t);
-  int newton = ws.newton_iterations, cg = ws.cg_iterations;
+  int newton = ws.newton_iterations, cg = ws.cg_iterations, factorizations = ws.factorizations;
   s.kicks.assign(model.num_vertices(), Vec3::Zero());
   const double settled = kKickTolerance * contact_length(model);  // m
   // Each round solves with the impulses found so far; the stage's further corrections of
@@ -893,10 +899,12 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
     method_step(model, state, ws, h, t);
     newton += ws.newton_iterations;
     cg += ws.cg_iterations;
+    factorizations += ws.factorizations;
   }
   s.kicks.clear();
   ws.newton_iterations = newton;
   ws.cg_iterations = cg;
+  ws.factorizations = factorizations;
 }
 
 // A substep whose Newton solve neither converged nor reduced the residual to
@@ -937,7 +945,7 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
   const bool stage = needs_cloth_contact(model);
   const bool closed = !supplies_energy(model);  // the energy rule of keep_substep applies
   int substeps = implicit_substeps(model, state);
-  int newton = 0, cg = 0;
+  int newton = 0, cg = 0, factorizations = 0;
   for (;;) {
     const State start = state;
     const ContactSet contacts = s.contacts;
@@ -954,6 +962,7 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
       substep(model, state, ws, s, h, state.t + k * h, stage);
       newton += ws.newton_iterations;
       cg += ws.cg_iterations;
+      factorizations += ws.factorizations;
       kept = kept && keep_substep(model, state, s.report, s.x_substep, s.v_substep);
     }
     if (kept || last_try) break;
@@ -963,6 +972,7 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
   }
   ws.newton_iterations = newton;
   ws.cg_iterations = cg;
+  ws.factorizations = factorizations;
   ws.substeps = substeps;
 }
 

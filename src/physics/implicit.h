@@ -34,7 +34,9 @@ struct ImplicitReport {
   int linear_solves = 0;          // PCG solves (one per Newton iteration)
   int cg_iterations = 0;          // total over the solves
   int factorizations = 0;         // Cholesky factorizations (linear_solver cholesky)
-  bool converged = false;         // final residual <= newton_tolerance * initial residual
+  bool converged = false;         // final residual <= newton_tolerance * initial residual, or
+                                  // the last whole step moved no vertex more than
+                                  // newton_motion_tolerance
   double initial_residual = 0.0;  // at the initial guess v = v_n
   double final_residual = 0.0;
   std::vector<double> residuals;     // initial, then after each Newton iteration

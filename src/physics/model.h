@@ -97,6 +97,9 @@ struct ImplicitOptions {
                                    // the line search shortened, or whose contacts changed,
                                    // gets a few more (docs/implicit.md)
   double newton_tolerance = 1e-2;  // relative residual of the nonlinear step
+  double newton_motion_tolerance = 0.0;  // m: Newton also stops after a whole step (no
+                                         // contact change) that moved no vertex's end
+                                         // position more than this; 0: off
   double cg_tolerance = 1e-3;      // relative residual of each linear solve
 };
 

@@ -384,6 +384,8 @@ Scene parse_scene(const Json& doc, const std::string& file) {
         im.integer("newton_iterations", defaults.max_newton_iterations, Range::between(1, 100)));
     scene.implicit.newton_tolerance =
         im.number("newton_tolerance", defaults.newton_tolerance, Range::positive());
+    scene.implicit.newton_motion_tolerance = im.number(
+        "newton_motion_tolerance", defaults.newton_motion_tolerance, Range::non_negative());
     scene.implicit.cg_tolerance = im.number("cg_tolerance", defaults.cg_tolerance, Range::positive());
     const std::string solver =
         im.choice("linear_solver", {"cholesky", "block_jacobi_pcg"}, "cholesky");

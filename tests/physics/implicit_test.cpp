@@ -782,5 +782,35 @@ TEST(Stability, SymplecticEulerDivergesAtSixtyHertz) {
   EXPECT_LT(k, 120);
 }
 
+// Newton's motion rule (implicit.newton_motion_tolerance): with a residual tolerance no
+// step can meet (1e-14), a falling sheet's Newton runs to its iteration limit every step;
+// with the motion rule it stops after the first whole step that moved no vertex by more
+// than the tolerance, and the states differ by less than that tolerance.
+TEST(NewtonStop, MotionRuleStopsNewtonOnceTheIterateMovesLessThanTheTolerance) {
+  const double tolerance = 1e-4;  // m
+  auto fall = [](double motion_tolerance, int* newton) {
+    testing::Sheet s = testing::cotton_sheet(0.4, 8, Integrator::BackwardEuler, 1.0 / 60.0);
+    s.model.implicit.newton_tolerance = 1e-14;
+    s.model.implicit.newton_motion_tolerance = motion_tolerance;
+    Workspace ws;
+    *newton = 0;
+    for (int k = 0; k < 10; ++k) {
+      EXPECT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+      *newton += ws.newton_iterations;
+    }
+    return s.state.x;
+  };
+  int newton_residual = 0, newton_motion = 0;
+  const Vec3List residual_rule = fall(0.0, &newton_residual);
+  const Vec3List motion_rule = fall(tolerance, &newton_motion);
+  EXPECT_LE(newton_motion, 3 * 10);
+  EXPECT_GT(newton_residual, 8 * 10);
+  double largest = 0.0;  // m
+  for (size_t i = 0; i < motion_rule.size(); ++i) {
+    largest = std::max(largest, (motion_rule[i] - residual_rule[i]).norm());
+  }
+  EXPECT_LT(largest, tolerance);
+}
+
 }  // namespace
 }  // namespace tissu
