@@ -19,8 +19,6 @@
 
 namespace tissu {
 
-bool supplies_energy(const Model& model);
-
 // Scratch memory and caches of the implicit integrators, kept in StepScratch::implicit so
 // that steps after the first allocate nothing.
 struct ImplicitSolver {
@@ -92,6 +90,15 @@ struct StepEquation {
   // unknown is v_{n+1}, 1/2 when it is the midpoint velocity.
   double warm_scale = 1.0;
 };
+
+// Wind or a moving obstacle can put energy into the cloth.
+bool supplies_energy(const Model& model) {
+  if (model.wind) return true;
+  for (const Obstacle& ob : model.obstacles) {
+    if (ob.motion.moves()) return true;
+  }
+  return false;
+}
 
 // The state's history holds the step before the one of size h starting at t.
 bool has_history(const Model& model, const State& state, double h, double t) {
@@ -918,14 +925,6 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
 // (an unconverged step that gains energy at contact is taken again).
 constexpr double kRetryReduction = 0.01;
 constexpr double kLooseReduction = 0.1;
-
-bool supplies_energy(const Model& model) {
-  if (model.wind) return true;
-  for (const Obstacle& ob : model.obstacles) {
-    if (ob.motion.moves()) return true;
-  }
-  return false;
-}
 
 // Whether the substep just solved (report r) from positions x0 and velocities v0 is kept.
 // The energies are evaluated only for a substep that needs the energy rule.
