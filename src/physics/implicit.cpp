@@ -100,6 +100,13 @@ bool supplies_energy(const Model& model) {
   return false;
 }
 
+// The mass of the vertices that are not pinned, kg.
+double free_mass(const Model& model) {
+  double mass = 0.0;
+  for (int i = 0; i < model.num_vertices(); ++i) mass += model.pinned[i] ? 0.0 : model.mass[i];
+  return mass;
+}
+
 // The state's history holds the step before the one of size h starting at t.
 bool has_history(const Model& model, const State& state, double h, double t) {
   const size_t n = static_cast<size_t>(model.num_vertices());
@@ -449,10 +456,8 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   // The tolerance is relative to the initial residual, or to the residual gravity alone
   // would leave over the step (beta |g| sqrt(sum m)) where that is larger: a cloth at rest
   // starts with a residual near zero that one iteration cannot shrink by the tolerance.
-  double free_mass = 0.0;  // kg
-  for (int i = 0; i < n; ++i) free_mass += model.pinned[i] ? 0.0 : model.mass[i];
   const double gravity_residual =
-      model.gravity ? eq.beta * model.gravity->norm() * std::sqrt(free_mass) : 0.0;
+      model.gravity ? eq.beta * model.gravity->norm() * std::sqrt(free_mass(model)) : 0.0;
   const double target = opt.newton_tolerance * std::max(r0, gravity_residual);
   report.converged = (r <= target);
 
@@ -763,9 +768,7 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
   const ContactSet contacts = s.contacts;
   const double barrier0 = barrier_energy_of(model, state.x, t);
   const double e0 = total_energy(model, state) + barrier0;
-  double weight = 0.0;  // N
-  for (int i = 0; i < model.num_vertices(); ++i) weight += model.pinned[i] ? 0.0 : model.mass[i];
-  weight *= model.gravity ? model.gravity->norm() : 0.0;
+  const double weight = model.gravity ? free_mass(model) * model.gravity->norm() : 0.0;  // N
   const double at_stake = kinetic_energy(model, state.v) + elastic_energy(model, state.x) +
                           barrier0 + weight * barrier_distance(model);  // J
   midpoint_solve(model, state, ws, h, t);
