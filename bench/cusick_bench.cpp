@@ -4,7 +4,7 @@
 //
 //   tissu_cusick_bench TRIANGLES [--no-clamp] [--shear F] [--bending F] [--strict-rest]
 //                      [--trace STEPS] [--resample] [--graded RATIO] [--band M]
-//                      [--turn RAD] [--membrane F] [--ring-membrane F]
+//                      [--turn RAD] [--membrane F] [--ring-membrane F] [--dt S]
 //
 // --no-clamp     the support's triangles are not a clamp in the bending model (pins only)
 // --shear F      shear stiffness times F;  --bending F  B times F
@@ -16,6 +16,7 @@
 // --turn RAD     the mesh turned by RAD about the vertical axis
 // --membrane F   tensile and shear stiffness times F
 // --ring-membrane F  membrane stiffness times F in the triangles with pinned and free corners
+// --dt S         backward Euler's step, s (the tests: 0.02)
 // --resample     samples the drape at rest on the coarser disc meshes (1500 triangles and
 //                up, same seed) and prints their bending energy of it by distance from
 //                the centre
@@ -138,6 +139,8 @@ int run(int argc, char** argv) {
       }
     } else if (a == "--ring-membrane" && has_value) {
       s.clamp_ring_membrane = std::atof(argv[++i]);
+    } else if (a == "--dt" && has_value) {
+      s.dt = std::atof(argv[++i]);
     } else if (a == "--resample") {
       resampled = true;
     } else {
