@@ -116,6 +116,33 @@ BarrierTerm vertex_barrier(const PlacedObstacle& obstacle, const Vec3& p, double
   return term;
 }
 
+Vec3 NormalDamping::force(const Vec3& v) const {
+  return -coefficient * (v - surface_velocity).dot(normal) * normal;
+}
+
+Mat3 NormalDamping::velocity_jacobian() const {
+  return -coefficient * normal * normal.transpose();
+}
+
+double NormalDamping::dissipation(const Vec3& v) const {
+  return -force(v).dot(v - surface_velocity);
+}
+
+double NormalDamping::potential(const Vec3& v) const {
+  const double approach = (v - surface_velocity).dot(normal);  // m/s
+  return 0.5 * coefficient * approach * approach;
+}
+
+NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
+                             double mass, double dhat, double zeta) {
+  const Gap g = obstacle_gap(obstacle, p);
+  NormalDamping damping{g.normal, g.surface_velocity, 0.0};
+  if (g.d <= 0.0 || g.d >= dhat) return damping;
+  const double stiffness = barrier_second_derivative(g.d, dhat, kappa);  // N/m
+  damping.coefficient = 2.0 * zeta * std::sqrt(mass * std::max(0.0, stiffness));
+  return damping;
+}
+
 double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u) {
   const Obstacle& ob = *obstacle.obstacle;
   const double d0 = obstacle_gap(obstacle, p).d;
@@ -153,6 +180,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   enabled_ = model.implicit.contact == ContactModel::Barrier;
   placed_.clear();
   friction_.clear();
+  damping_.clear();
   if (!enabled_) return;
   model_ = &model;
   x_end_base_ = &x_end_base;
@@ -194,6 +222,21 @@ void BarrierContact::make_feasible(Vec3List& v) const {
   }
 }
 
+void BarrierContact::freeze_damping(const Vec3List& v, const Vec3List& v_n) {
+  damping_.clear();
+  v_start_ = &v_n;
+  const double zeta = enabled_ ? model_->implicit.barrier_damping : 0.0;
+  if (zeta <= 0.0) return;
+  for (int i = 0; i < model_->num_vertices(); ++i) {
+    if (model_->pinned[i]) continue;
+    const Vec3 x = end_position(v, i);
+    for (const PlacedObstacle& o : placed_) {
+      const NormalDamping law = vertex_damping(o, x, kappa_[i], model_->mass[i], dhat_, zeta);
+      if (law.coefficient > 0.0) damping_.push_back({i, law});
+    }
+  }
+}
+
 double BarrierContact::potential(const Vec3List& v) const {
   if (!enabled_) return 0.0;
   double total = 0.0;
@@ -206,6 +249,8 @@ double BarrierContact::potential(const Vec3List& v) const {
   }
   total *= beta_ / beta_end_;
   for (const Friction& f : friction_) total += f.law.potential(v[f.vertex]);
+  const double weight = beta_ * beta_ / beta_end_;  // beta / a, s
+  for (const Damping& d : damping_) total += weight * d.law.potential(end_velocity(v, d.vertex));
   return total;
 }
 
@@ -225,6 +270,9 @@ void BarrierContact::add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const
   if (!enabled_) return;
   for_each_term(v, [&](int i, const BarrierTerm& b) { rhs.segment<3>(3 * i) -= beta_ * b.gradient; });
   for (const Friction& f : friction_) rhs.segment<3>(3 * f.vertex) += f.law.impulse(v[f.vertex]);
+  for (const Damping& d : damping_) {
+    rhs.segment<3>(3 * d.vertex) += beta_ * d.law.force(end_velocity(v, d.vertex));
+  }
 }
 
 void BarrierContact::add_hessian(const Vec3List& v, SystemMatrix& system) const {
@@ -232,6 +280,7 @@ void BarrierContact::add_hessian(const Vec3List& v, SystemMatrix& system) const 
   const double scale = beta_ * beta_end_;  // s^2
   for_each_term(v, [&](int i, const BarrierTerm& b) { system.add_diagonal(i, scale * b.hessian); });
   for (const Friction& f : friction_) system.add_diagonal(f.vertex, f.law.jacobian(v[f.vertex]));
+  for (const Damping& d : damping_) system.add_diagonal(d.vertex, -beta_end_ * d.law.velocity_jacobian());
 }
 
 double BarrierContact::largest_step(const Vec3List& v, const Eigen::VectorXd& dv) const {

@@ -15,7 +15,8 @@
 // incremental potential. The line search never goes past 0.9 of the step at which a
 // vertex's straight path first reaches d = 0 (largest_step), so no vertex ends inside.
 // Friction is IPC's lagged smoothed Coulomb friction (SlidingFriction, contact.h) with the
-// barrier's normal force at the start of the step as the normal impulse.
+// barrier's normal force at the start of the step as the normal impulse. A normal damping
+// inside the band (NormalDamping) makes a landing inelastic.
 // Tests: tests/physics/barrier_contact_test.cpp.
 #pragma once
 
@@ -63,6 +64,31 @@ struct BarrierTerm {
 BarrierTerm vertex_barrier(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
                            double dhat, bool psd);
 
+// The barrier's normal damping (docs/implicit.md, "The barrier's normal damping"): a
+// vertex within dhat of an obstacle feels f = -c ((v - v_s) . n) n (N), v its velocity,
+// v_s the surface's and n the normal (m/s, unit), with c = 2 zeta sqrt(m b''(d)) (kg/s):
+// zeta (model.implicit.barrier_damping) times the critical damping of its mass m (kg) on
+// the barrier's normal spring b''(d) (N/m). It vanishes with b'' at d = dhat and is
+// linear in v at a fixed point; its power -f . (v - v_s) = c ((v - v_s) . n)^2 is never
+// negative, so it only takes energy. Landing compresses the barrier; without the damping
+// the barrier gives that energy back (a bounce that BDF-2 and the midpoint rule do not damp).
+struct NormalDamping {
+  Vec3 normal = Vec3::UnitZ();
+  Vec3 surface_velocity = Vec3::Zero();  // m/s
+  double coefficient = 0.0;              // c, kg/s
+
+  Vec3 force(const Vec3& v) const;       // f(v), N
+  Mat3 velocity_jacobian() const;        // df/dv = -c n n^T, kg/s
+  double dissipation(const Vec3& v) const;  // -f . (v - v_s) >= 0, W
+  // 1/2 c ((v - v_s) . n)^2 (kg m^2/s^3): the incremental potential's term is beta times it,
+  // whose gradient in v is -beta f.
+  double potential(const Vec3& v) const;
+};
+// The damping of a vertex of mass m (kg) at p against an obstacle, for kappa (kg/s^2),
+// dhat (m) and the ratio zeta to critical damping: zero coefficient for d >= dhat or d <= 0.
+NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
+                             double mass, double dhat, double zeta);
+
 // The first t in [0, 1] at which p + t u reaches d = 0 of the obstacle, 1 if it never does
 // (closed form for a plane and a sphere; conservative advancement on the 1-Lipschitz
 // distance for a capped cylinder, which returns a t at or before it).
@@ -91,12 +117,24 @@ class BarrierContact {
   // obstacle out to dhat / 2 (the initial guess of the solve must be feasible).
   void make_feasible(Vec3List& v) const;
 
-  // (beta / beta_end) times the barrier energy at x_end(v) plus the friction potential at
-  // v (J); +infinity where a vertex is at or beyond d = 0.
+  // Takes the normal damping's normals and coefficients at x_end(v) and holds them until
+  // the next call (Newton calls it at each accepted iterate, so a converged step meets
+  // the damping at its end positions; within a line search the damping is linear in v).
+  // The damping acts on the velocity the step ends with, v_end = v_n + a (v - v_n) with
+  // a = beta_end / beta and v_n (m/s) the velocities at the start: v itself for backward
+  // Euler and BDF-2, 2 w - v_n for the midpoint rule's w, whose damping is then
+  // backward Euler's (L-stable: a stiff damper does not flip the velocity every step).
+  void freeze_damping(const Vec3List& v, const Vec3List& v_n);
+
+  // (beta / beta_end) times the barrier energy at x_end(v), the friction potential at v
+  // and (beta / a) times the frozen damping's potential at v_end (J); +infinity where a
+  // vertex is at or beyond d = 0.
   double potential(const Vec3List& v) const;
-  // Adds -beta grad B(x_end(v)) and the friction impulses F(v) to rhs (3V), kg*m/s.
+  // Adds -beta grad B(x_end(v)), the friction impulses F(v) and the frozen damping's
+  // impulses beta f(v_end) to rhs (3V), kg*m/s.
   void add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const;
-  // Adds beta beta_end Hess B (PSD part) and -dF/dv to the system's diagonal blocks, kg.
+  // Adds beta beta_end Hess B (PSD part), -dF/dv and the damping's -beta a df/dv_end to
+  // the system's diagonal blocks, kg.
   void add_hessian(const Vec3List& v, SystemMatrix& system) const;
   // The largest step length along dv (3V), at most 1, that keeps every vertex at d > 0:
   // kBarrierStepFraction of the first touch.
@@ -108,6 +146,9 @@ class BarrierContact {
  private:
   Vec3 end_position(const Vec3List& v, int i) const {
     return (*x_end_base_)[i] + beta_end_ * v[i];
+  }
+  Vec3 end_velocity(const Vec3List& v, int i) const {
+    return (*v_start_)[i] + (beta_end_ / beta_) * (v[i] - (*v_start_)[i]);
   }
   // Calls visit(vertex, term) for each free vertex and obstacle within dhat at x_end(v).
   template <typename Visit>
@@ -125,6 +166,12 @@ class BarrierContact {
     SlidingFriction law;
   };
   std::vector<Friction> friction_;
+  struct Damping {
+    int vertex = -1;
+    NormalDamping law;
+  };
+  std::vector<Damping> damping_;  // frozen by freeze_damping
+  const Vec3List* v_start_ = nullptr;  // v_n, m/s
 };
 
 // kappa = m / dt^2 (kg/s^2) of a vertex of mass m (kg) for dt (s): the scene's step, or

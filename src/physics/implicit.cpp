@@ -434,6 +434,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     s.placed.push_back(place_obstacle(ob, eq.t_end));
   }
   s.barrier.make_feasible(s.v);
+  s.barrier.freeze_damping(s.v, state.v);
   if (!s.placed.empty()) {
     const Vec3List& x_end = end_positions(model, s, eq, state, s.v);
     // A vertex in contact at the end of the last step (and not released) is caught again
@@ -548,6 +549,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
       s.v[i] += change;
       largest_change = std::max(largest_change, change.norm());
     }
+    s.barrier.freeze_damping(s.v, state.v);
     report.step_lengths.push_back(accepted);
     report.velocity_changes.push_back(largest_change);
     report.seconds_residual += processor_seconds_since(t0);

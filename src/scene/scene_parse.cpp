@@ -403,6 +403,8 @@ Scene parse_scene(const Json& doc, const std::string& file) {
     if (im.has("barrier_stiffness_dt")) {
       scene.implicit.barrier_stiffness_dt = im.number("barrier_stiffness_dt", Range::positive());
     }
+    scene.implicit.barrier_damping =
+        im.number("barrier_damping", defaults.barrier_damping, Range::non_negative());
     im.finish();
   }
   scene.max_speed = root.number("max_speed", 100.0, Range::positive());
