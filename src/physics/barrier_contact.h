@@ -64,7 +64,7 @@ struct BarrierTerm {
 BarrierTerm vertex_barrier(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
                            double dhat, bool psd);
 
-// The barrier's normal damping (docs/implicit.md, "The barrier's normal damping"): a
+// The barrier's normal damping (docs/implicit.md, "A barrier instead of constraints"): a
 // vertex within dhat of an obstacle feels f = -c ((v - v_s) . n) n (N), v its velocity,
 // v_s the surface's and n the normal (m/s, unit), with c = 2 zeta sqrt(m b''(d)) (kg/s):
 // zeta (model.implicit.barrier_damping) times the critical damping of its mass m (kg) on
