@@ -179,10 +179,12 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
                            double beta, double beta_end, double t, double t_end) {
   enabled_ = model.implicit.contact == ContactModel::Barrier;
   placed_.clear();
+  placed_start_.clear();
   friction_.clear();
   damping_.clear();
   if (!enabled_) return;
   model_ = &model;
+  x_start_ = &x_n;
   x_end_base_ = &x_end_base;
   beta_ = beta;
   beta_end_ = beta_end;
@@ -194,9 +196,10 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   for (const Obstacle& ob : model.obstacles) {
     if (ob.kind == ObstacleKind::Mesh) continue;
     placed_.push_back(place_obstacle(ob, t_end));
+    placed_start_.push_back(place_obstacle(ob, t));
     if (ob.friction == 0.0) continue;
     // Lagged friction: the barrier's normal force at x_n, over the step, as J_n.
-    const PlacedObstacle start = place_obstacle(ob, t);
+    const PlacedObstacle& start = placed_start_.back();
     for (int i = 0; i < n; ++i) {
       if (model.pinned[i]) continue;
       const Gap g = obstacle_gap(start, x_n[i]);
@@ -210,14 +213,35 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   if (placed_.empty()) enabled_ = false;
 }
 
-void BarrierContact::make_feasible(Vec3List& v) const {
+double holding_gap(double force, double dhat, double kappa) {
+  if (!(force > 0.0)) return dhat;
+  double below = 0.0, above = dhat;  // -b'(below) > force >= -b'(above)
+  for (int k = 0; k < 50; ++k) {
+    const double d = 0.5 * (below + above);
+    (-barrier_derivative(d, dhat, kappa) > force ? below : above) = d;
+  }
+  return above;
+}
+
+void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
+                                   const std::function<const Vec3List&()>& forces) const {
   if (!enabled_) return;
   const double keep = 0.5 * dhat_;  // m
+  const Vec3List* f = nullptr;      // N, evaluated once a vertex needs them
   for (int i = 0; i < model_->num_vertices(); ++i) {
     if (model_->pinned[i]) continue;
-    for (const PlacedObstacle& o : placed_) {
-      const Gap g = obstacle_gap(o, end_position(v, i));
-      if (g.d < keep) v[i] += ((keep - g.d) / beta_end_) * g.normal;
+    for (size_t o = 0; o < placed_.size(); ++o) {
+      const Gap g = obstacle_gap(placed_[o], end_position(v, i));
+      if (g.d >= keep) continue;
+      if (!f) f = &forces();
+      // The impulse the barrier must give over the step for the vertex to end moving with
+      // the surface along the normal (kg*m/s), and the gap where it pushes that hard.
+      const double press = model_->mass[i] * (g.surface_velocity - v_base[i]).dot(g.normal) -
+                           beta_ * (*f)[i].dot(g.normal);
+      const double balance = holding_gap(press / beta_, dhat_, kappa_[i]);
+      const double start = obstacle_gap(placed_start_[o], (*x_start_)[i]).d;
+      const double target = std::min(keep, std::max(start, balance));
+      if (g.d < target) v[i] += ((target - g.d) / beta_end_) * g.normal;
     }
   }
 }

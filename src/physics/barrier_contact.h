@@ -21,6 +21,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "core/types.h"
@@ -113,9 +114,16 @@ class BarrierContact {
 
   double dhat() const { return dhat_; }
 
-  // Moves the end position of each vertex whose x_end(v) is closer than dhat / 2 to an
-  // obstacle out to dhat / 2 (the initial guess of the solve must be feasible).
-  void make_feasible(Vec3List& v) const;
+  // The initial guess, which must be feasible: moves the end position of each vertex whose
+  // x_end(v) is closer than dhat / 2 to an obstacle out along the normal to the larger of
+  // its gap at x_n and the gap where the barrier holds the impulse pressing it (from its
+  // momentum against the surface, M (v_surface - v_base), and the forces f(x_n), N, that
+  // forces() returns, called only if a vertex is that close), at most dhat / 2. A resting
+  // vertex starts where it rests; one whose gap at x_n no load explains (a sheet laid on the
+  // surface, at a gap of rounding) starts where the load is held (docs/implicit.md, "The
+  // barrier's initial guess").
+  void make_feasible(Vec3List& v, const Vec3List& v_base,
+                     const std::function<const Vec3List&()>& forces) const;
 
   // Takes the normal damping's normals and coefficients at x_end(v) and holds them until
   // the next call (Newton calls it at each accepted iterate, so a converged step meets
@@ -155,11 +163,13 @@ class BarrierContact {
   void for_each_term(const Vec3List& v, Visit visit) const;
   bool enabled_ = false;
   const Model* model_ = nullptr;
+  const Vec3List* x_start_ = nullptr;  // x_n, m
   const Vec3List* x_end_base_ = nullptr;
   double beta_ = 0.0;      // s
   double beta_end_ = 0.0;  // s
   double dhat_ = 0.0;      // m
   std::vector<PlacedObstacle> placed_;  // at the end of the step
+  std::vector<PlacedObstacle> placed_start_;  // the same obstacles at the start
   std::vector<double> kappa_;           // (V) barrier stiffness, kg/s^2
   struct Friction {
     int vertex = -1;
@@ -177,6 +187,10 @@ class BarrierContact {
 // kappa = m / dt^2 (kg/s^2) of a vertex of mass m (kg) for dt (s): the scene's step, or
 // model.implicit.barrier_stiffness_dt if set (the same barrier at every step).
 double barrier_stiffness(double mass, double dt);
+
+// The gap at which the barrier pushes with the given force (N), m: -b'(d) = force for
+// kappa (kg/s^2) and dhat (m); dhat where the force is not positive.
+double holding_gap(double force, double dhat, double kappa);
 
 // The barrier energy of positions x at time t (s) against the model's sphere, cylinder and
 // plane obstacles, J: what the barrier model adds to the total energy of a state.

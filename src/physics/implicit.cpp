@@ -433,7 +433,11 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     if (s.barrier.enabled() && ob.kind != ObstacleKind::Mesh) continue;
     s.placed.push_back(place_obstacle(ob, eq.t_end));
   }
-  s.barrier.make_feasible(s.v);
+  // The barrier's guess needs the forces at x_n where a vertex ends near an obstacle.
+  s.barrier.make_feasible(s.v, s.v_base, [&]() -> const Vec3List& {
+    compute_forces(model, state.x, s.v, eq.t_force, s.f_lin, plan, threads);
+    return s.f_lin;
+  });
   s.barrier.freeze_damping(s.v, state.v);
   if (!s.placed.empty()) {
     const Vec3List& x_end = end_positions(model, s, eq, state, s.v);

@@ -46,6 +46,21 @@ TEST(Barrier, ScalarDerivativesMatchFiniteDifferences) {
   EXPECT_TRUE(std::isinf(barrier_energy(0.0, kDhat, kappa)));
 }
 
+// holding_gap inverts the barrier's force: -b'(d) = F at the gap it returns, for loads from
+// a thousandth to a thousand times kappa dhat; dhat for no load or a pull.
+TEST(Barrier, HoldingGapIsWhereTheBarrierPushesWithTheLoad) {
+  const double kappa = 3.0;  // kg/s^2
+  for (double load : {1e-3, 0.1, 1.0, 10.0, 1e3}) {
+    const double force = load * kappa * kDhat;  // N
+    const double d = holding_gap(force, kDhat, kappa);
+    EXPECT_GT(d, 0.0);
+    EXPECT_LT(d, kDhat);
+    EXPECT_NEAR(-barrier_derivative(d, kDhat, kappa), force, 1e-9 * force) << load;
+  }
+  EXPECT_EQ(holding_gap(0.0, kDhat, kappa), kDhat);
+  EXPECT_EQ(holding_gap(-1.0, kDhat, kappa), kDhat);
+}
+
 // Points 0.1-0.9 dhat outside a sphere, the side, a cap and the rim of a capped cylinder,
 // and a tilted plane, each obstacle with a thickness and moved away from its start: the
 // gradient matches central differences of the energy and the exact Hessian those of the
@@ -342,6 +357,28 @@ TEST(Barrier, SheetDroppedOnAPlaneLandsWithoutBouncing) {
       EXPECT_LT(upward, 0.005);
       EXPECT_LT(returning, 0.1);
     }
+  }
+}
+
+// A sheet resting closer to a plane than dhat / 2 (a softer barrier, kappa from a step of
+// 0.1 s, holds its weight at about 0.17 dhat) starts each step where it rests: the step
+// equation's residual at the initial guess is at rounding level. The guess once lifted
+// every such vertex to dhat / 2, so that each resting step began stretched (a residual of
+// twice gravity's impulse) and took 4 Newton iterations to pull back.
+TEST(Barrier, RestingStepStartsWhereTheSheetRests) {
+  Sheet s = sheet_laid_on_a_plane(0.3, 6, 1.0 / 60.0, 0.5);
+  s.model.implicit.barrier_stiffness_dt = 0.1;  // s
+  const double dhat = barrier_distance(s.model);
+  double mass = 0.0;  // kg
+  for (double m : s.model.mass) mass += m;
+  // Gravity's impulse over the step in the residual's norm, sqrt(kg) m/s.
+  const double gravity = s.model.dt * s.model.gravity->norm() * std::sqrt(mass);
+  Workspace ws;
+  for (int k = 0; k < 60; ++k) ASSERT_FALSE(step(s.model, s.state, ws)) << "settling step " << k;
+  ASSERT_LT(gap_range(s, 0).second, 0.25 * dhat) << "the sheet rests closer than dhat / 2";
+  for (int k = 0; k < 30; ++k) {
+    ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+    EXPECT_LT(last_implicit_report(ws)->initial_residual, 1e-6 * gravity) << "step " << k;
   }
 }
 
