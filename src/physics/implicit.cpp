@@ -14,6 +14,7 @@
 #include "physics/forces.h"
 #include "physics/linear_solver.h"
 #include "physics/membrane.h"
+#include "physics/scalar_preconditioner.h"
 #include "physics/step_scratch.h"
 #include "physics/system_matrix.h"
 
@@ -25,6 +26,7 @@ struct ImplicitSolver {
   SystemMatrix system;  // A = M - beta df/dv - beta^2 df/dx
   BlockJacobiPreconditioner block_jacobi;
   CholeskyPreconditioner cholesky;
+  ScalarCholeskyPreconditioner scalar;
   bool refactor = false;  // the kept factor has become slow: factorize at the next solve
   CgWorkspace cg;
   Eigen::VectorXd rhs;       // (3V) the Newton right-hand side, kg*m/s
@@ -219,7 +221,8 @@ void constraint_stiffness(const ContactSet& contacts, const BlockSparseMatrix& A
 // Solves S A S dv = S rhs by PCG from the dv given. With linear_solver cholesky, the
 // factor of an earlier matrix is tried first: when it has not converged within
 // kStaleFactorCgIterations, the current matrix is factorized and PCG goes on from there.
-// Block Jacobi on request, or when a factorization fails (A not positive definite).
+// The scalar factors, cheap to make, are made anew for every solve. Block Jacobi on
+// request, or when a factorization fails (A not positive definite).
 CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
                       ImplicitReport& report) {
   const BlockSparseMatrix& A = s.system.matrix();
@@ -233,6 +236,18 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
     return r;
   };
   CgResult stale;
+  if (opt.linear_solver == LinearSolver::ScalarCholesky ||
+      opt.linear_solver == LinearSolver::ScaledScalarCholesky) {
+    const std::clock_t t0 = std::clock();
+    constraint_stiffness(s.contacts, A, s.additions);
+    const bool factorized = s.scalar.compute(
+        A, opt.linear_solver == LinearSolver::ScaledScalarCholesky, s.additions);
+    report.seconds_preconditioner += processor_seconds_since(t0);
+    if (factorized) {
+      report.factorizations += 1;
+      return pcg(s.scalar, max_cg);
+    }
+  }
   if (opt.linear_solver == LinearSolver::Cholesky) {
     if (s.cholesky.valid() && s.cholesky.pattern_id() == A.pattern_id() && !s.refactor) {
       stale = pcg(s.cholesky, kStaleFactorCgIterations);

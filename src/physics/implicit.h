@@ -33,7 +33,7 @@ struct ImplicitReport {
   int newton_iterations = 0;      // Newton iterations (system matrices assembled)
   int linear_solves = 0;          // PCG solves (one per Newton iteration)
   int cg_iterations = 0;          // total over the solves
-  int factorizations = 0;         // Cholesky factorizations (linear_solver cholesky)
+  int factorizations = 0;         // factorizations of the Cholesky or scalar preconditioner
   bool converged = false;         // final residual <= newton_tolerance * initial residual, or
                                   // the last whole step moved no vertex more than
                                   // newton_motion_tolerance

@@ -105,6 +105,17 @@ Eigen::MatrixXd BlockSparseMatrix::to_dense() const {
   return dense;
 }
 
+void set_compressed_columns(Eigen::SparseMatrix<double>& m,
+                            const std::vector<Eigen::SparseMatrix<double>::StorageIndex>& outer,
+                            const std::vector<Eigen::SparseMatrix<double>::StorageIndex>& inner) {
+  const Eigen::Index n = static_cast<Eigen::Index>(outer.size()) - 1;
+  m.resize(n, n);
+  m.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer.begin(), outer.end(), m.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), m.innerIndexPtr());
+  std::fill_n(m.valuePtr(), inner.size(), 1.0);
+}
+
 void BlockJacobiPreconditioner::compute(const BlockSparseMatrix& A) {
   const int n = A.num_vertices();
   inverse_.resize(n);
@@ -208,11 +219,7 @@ void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
   }
   // The compressed columns as built (each sorted by row, so value k of lower_ is
   // source_[k]), then the ordering and symbolic analysis once.
-  lower_.resize(dofs, dofs);
-  lower_.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
-  std::copy(outer.begin(), outer.end(), lower_.outerIndexPtr());
-  std::copy(inner.begin(), inner.end(), lower_.innerIndexPtr());
-  std::fill_n(lower_.valuePtr(), inner.size(), 1.0);
+  set_compressed_columns(lower_, outer, inner);
   choose_best_of_amd_and_nested_dissection(llt_.cholmod());
   llt_.analyzePattern(lower_);
   pattern_id_ = A.pattern_id();

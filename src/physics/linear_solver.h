@@ -81,6 +81,12 @@ class BlockSparseMatrix {
   std::vector<double> values_;   // 9 per full block, then 3 per diagonal-only block
 };
 
+// Square column-major m with the compressed columns given (outer: n + 1 starts, inner: the
+// rows of each column in order); every value 1.
+void set_compressed_columns(Eigen::SparseMatrix<double>& m,
+                            const std::vector<Eigen::SparseMatrix<double>::StorageIndex>& outer,
+                            const std::vector<Eigen::SparseMatrix<double>::StorageIndex>& inner);
+
 // z = P r for a symmetric positive definite approximation P of A^-1.
 class Preconditioner {
  public:

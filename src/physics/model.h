@@ -71,6 +71,9 @@ struct SelfCollision {
 enum class LinearSolver {
   Cholesky,        // sparse Cholesky factor of each Newton matrix, as PCG's preconditioner
   BlockJacobiPcg,  // PCG with the 3x3 block-Jacobi preconditioner (no factorization)
+  ScalarCholesky,  // a scalar (one unknown per vertex) Cholesky factor, S (x) I3, of each
+                   // Newton matrix, factorized at every solve (scalar_preconditioner.h)
+  ScaledScalarCholesky,  // the same with the 3x3 block-Jacobi scaling around it
 };
 
 // What the line search of each Newton iteration measures.

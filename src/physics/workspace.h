@@ -18,7 +18,7 @@ struct Workspace {
   // Implicit solver statistics of the last step (totals over its substeps).
   int newton_iterations = 0;
   int cg_iterations = 0;
-  int factorizations = 0;  // of the Cholesky preconditioner
+  int factorizations = 0;  // of the Cholesky or scalar preconditioner
   int substeps = 0;
   // The collision stage of the last step (cloth_contact.h) and its processor time, s.
   ContactStats contact;
