@@ -2,13 +2,18 @@
 // conjugate-gradient iterations per step and milliseconds per step (one core), with the
 // time split into Jacobian assembly, preconditioner, CG and residual evaluations.
 //   ./build/bench/tissu_implicit_bench [triangles] [material] [seconds] [cg_tolerance]
+//                                      [--solver NAME]...
 // defaults: 5000 linen 0.5 1e-8; runs dt = 1/60 s and 1/600 s, backward Euler with one Newton
-// iteration and with Newton to convergence, and BDF-2, each with the sparse Cholesky and the
-// block-Jacobi preconditioner. Times are processor time (std::clock).
+// iteration and with Newton to convergence, and BDF-2, with each preconditioner named by
+// --solver (the scene's implicit.linear_solver names; default cholesky and
+// block_jacobi_pcg). Times are processor time (std::clock).
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "mesh/generate.h"
 #include "physics/bending.h"
@@ -59,29 +64,70 @@ Setup make_setup(int triangles, const std::string& material) {
   return s;
 }
 
+// The scene's implicit.linear_solver names.
+const std::vector<std::pair<std::string, LinearSolver>> kSolvers = {
+    {"cholesky", LinearSolver::Cholesky},
+    {"block_jacobi_pcg", LinearSolver::BlockJacobiPcg},
+    {"scalar_cholesky", LinearSolver::ScalarCholesky},
+    {"scaled_scalar_cholesky", LinearSolver::ScaledScalarCholesky},
+};
+
+const char* solver_name(LinearSolver solver) {
+  for (const auto& [name, value] : kSolvers) {
+    if (value == solver) return name.c_str();
+  }
+  return "?";
+}
+
+int usage(const char* program) {
+  std::fprintf(stderr,
+               "usage: %s [triangles] [cotton|linen|silk] [seconds] [cg_tolerance] "
+               "[--solver NAME]...\n  NAME: cholesky, block_jacobi_pcg, scalar_cholesky, "
+               "scaled_scalar_cholesky (default: cholesky and block_jacobi_pcg)\n",
+               program);
+  return 2;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int triangles = argc > 1 ? std::atoi(argv[1]) : 5000;
-  const std::string material = argc > 2 ? argv[2] : "linen";
-  const double seconds = argc > 3 ? std::atof(argv[3]) : 0.5;  // s of simulated time per run
-  const double cg_tolerance = argc > 4 ? std::atof(argv[4]) : ImplicitOptions().cg_tolerance;
-  if (triangles <= 0 || !material_preset(material) || !(seconds > 0.0) || !(cg_tolerance > 0.0)) {
-    std::fprintf(stderr, "usage: %s [triangles] [cotton|linen|silk] [seconds] [cg_tolerance]\n",
-                 argv[0]);
-    return 2;
+  std::vector<std::string> positional;
+  std::vector<LinearSolver> solvers;
+  for (int k = 1; k < argc; ++k) {
+    const std::string arg = argv[k];
+    if (arg == "--help" || arg == "-h") return usage(argv[0]);
+    if (arg == "--solver" && k + 1 < argc) {
+      const std::string name = argv[++k];
+      const auto it = std::find_if(kSolvers.begin(), kSolvers.end(),
+                                   [&](const auto& entry) { return entry.first == name; });
+      if (it == kSolvers.end()) return usage(argv[0]);
+      solvers.push_back(it->second);
+    } else {
+      positional.push_back(arg);
+    }
+  }
+  if (solvers.empty()) solvers = {LinearSolver::Cholesky, LinearSolver::BlockJacobiPcg};
+  const size_t args = positional.size();
+  const int triangles = args > 0 ? std::atoi(positional[0].c_str()) : 5000;
+  const std::string material = args > 1 ? positional[1] : "linen";
+  const double seconds = args > 2 ? std::atof(positional[2].c_str()) : 0.5;  // s simulated per run
+  const double cg_tolerance =
+      args > 3 ? std::atof(positional[3].c_str()) : ImplicitOptions().cg_tolerance;
+  if (args > 4 || triangles <= 0 || !material_preset(material) || !(seconds > 0.0) ||
+      !(cg_tolerance > 0.0)) {
+    return usage(argv[0]);
   }
   std::printf(
       "%s sheet, %.3g s of simulated time per run, newton_tolerance %.0e, cg_tolerance %.0e\n",
       material.c_str(), seconds, ImplicitOptions().newton_tolerance, cg_tolerance);
-  std::printf("%-9s %-16s %-8s %-6s %6s %6s %8s %9s %6s %8s %8s %8s %8s %7s %6s\n", "solver", "integrator", "dt",
+  std::printf("%-22s %-16s %-8s %-6s %6s %6s %8s %9s %6s %8s %8s %8s %8s %7s %6s\n", "solver", "integrator", "dt",
               "newton", "tris", "steps", "newton/s", "cg/step", "fact/s", "ms/step", "jac", "precond", "cg",
               "resid", "strain");
   struct Run {
     Integrator integrator;
     int newton;
   };
-  for (LinearSolver solver : {LinearSolver::Cholesky, LinearSolver::BlockJacobiPcg})
+  for (LinearSolver solver : solvers)
   for (double dt : {1.0 / 60.0, 1.0 / 600.0}) {
     for (Run run : {Run{Integrator::BackwardEuler, 1}, Run{Integrator::BackwardEuler, 50},
                     Run{Integrator::Bdf2, 50}}) {
@@ -109,8 +155,8 @@ int main(int argc, char** argv) {
         res += r.seconds_residual;
       }
       const double total = static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
-      std::printf("%-9s %-16s 1/%-6.0f %-6d %6d %6d %8.2f %9.1f %6.2f %8.2f %8.2f %8.2f %8.2f %7.2f %6.4f%s\n",
-                  solver == LinearSolver::Cholesky ? "cholesky" : "jacobi",
+      std::printf("%-22s %-16s 1/%-6.0f %-6d %6d %6d %8.2f %9.1f %6.2f %8.2f %8.2f %8.2f %8.2f %7.2f %6.4f%s\n",
+                  solver_name(solver),
                   integrator_name(run.integrator), 1.0 / dt, run.newton, s.model.num_triangles(),
                   steps, double(newton) / steps, double(cg) / steps, double(factorizations) / steps, 1e3 * total / steps,
                   1e3 * jac / steps, 1e3 * pre / steps, 1e3 * cgt / steps, 1e3 * res / steps,
