@@ -85,7 +85,9 @@ TEST(LinearSolver, ScalarFactorsArePositiveDefiniteOnAProjectedSystemMatrix) {
       EXPECT_GT(r.dot(Pr), 0.0) << "r^T P^-1 r, scaled " << scaled;
       EXPECT_NEAR(s.dot(Pr), r.dot(Ps), 1e-12 * Pr.norm() * s.norm()) << "symmetric";
       for (size_t i = 0; i < p.pinned.size(); ++i) {
-        if (p.pinned[i]) EXPECT_EQ(Pr.segment<3>(3 * i).norm(), 0.0) << "pinned vertex " << i;
+        if (p.pinned[i]) {
+          EXPECT_EQ(Pr.segment<3>(3 * i).norm(), 0.0) << "pinned vertex " << i;
+        }
       }
     }
   }
