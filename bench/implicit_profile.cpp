@@ -5,7 +5,8 @@
 //       [--threads N]   (default 1; times are processor time, summed over the threads)
 // --detail adds, for each printed step, its last substep's Newton iterations one by one
 // (residual, line-search length, CG iterations), factorizations, contact changes and the
-// processor time of its stages.
+// processor time of its stages. A run that diverges stops there, averages over the steps
+// it took and exits with 3.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -79,12 +80,14 @@ int main(int argc, char** argv) {
   std::printf("%6s %8s %4s %6s %6s %8s %8s\n", "step", "t s", "sub", "newton", "cg",
               "contacts", "ms");
   double total = 0.0;
-  long long newton = 0, cg = 0, factorizations = 0;
+  long long newton = 0, cg = 0, factorizations = 0, steps = 0;
+  bool diverged = false;
   for (long long k = 0; k < scene.steps; ++k) {
     const std::clock_t t0 = std::clock();
     const auto divergence = step(sim.model, sim.state, ws);
     const double ms = 1e3 * static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
     total += ms;
+    steps += 1;
     newton += ws.newton_iterations;
     cg += ws.cg_iterations;
     factorizations += ws.factorizations;
@@ -96,14 +99,16 @@ int main(int argc, char** argv) {
     }
     if (divergence) {
       std::printf("diverged at t = %g s: %s\n", divergence->time, divergence->reason.c_str());
+      diverged = true;
       break;
     }
   }
+  // Per step over the steps taken: a run that diverged is averaged over its own steps.
+  const double n = static_cast<double>(std::max(1LL, steps));
   std::printf(
-      "total %.1f ms over %lld steps: %.2f ms/step, %.2f Newton/step, %.1f CG/step, %.1f "
+      "total %.1f ms over %lld steps%s: %.2f ms/step, %.2f Newton/step, %.1f CG/step, %.1f "
       "CG/Newton, %.2f factorizations/step\n",
-      total, scene.steps, total / scene.steps, double(newton) / scene.steps,
-      double(cg) / scene.steps, double(cg) / std::max(1LL, newton),
-      double(factorizations) / scene.steps);
-  return 0;
+      total, steps, diverged ? " (DIVERGED)" : "", total / n, double(newton) / n, double(cg) / n,
+      double(cg) / std::max(1LL, newton), double(factorizations) / n);
+  return diverged ? 3 : 0;
 }
