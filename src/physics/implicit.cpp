@@ -764,6 +764,22 @@ void midpoint_solve(const Model& model, State& state, Workspace& ws, double h, d
   end_step(state, s, h, t);
 }
 
+// Newton, CG and factorization counts of the solves a step made, summed over the solves a
+// step takes again (substeps, the collision stage's rounds, halved midpoint steps).
+struct SolveCounts {
+  int newton = 0, cg = 0, factorizations = 0;
+  void add(const Workspace& ws) {
+    newton += ws.newton_iterations;
+    cg += ws.cg_iterations;
+    factorizations += ws.factorizations;
+  }
+  void store(Workspace& ws) const {
+    ws.newton_iterations = newton;
+    ws.cg_iterations = cg;
+    ws.factorizations = factorizations;
+  }
+};
+
 // With the barrier, a midpoint step longer than about 1/240 s that stops part of a falling
 // cotton sheet at an obstacle ends with several times the elastic energy its solve saw:
 // the rule weighs the membrane at the midpoint, half way to a stretch the barrier makes
@@ -795,10 +811,15 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
   midpoint_solve(model, state, ws, h, t);
   const double e1 = total_energy(model, state) + barrier_energy_of(model, state.x, t + h);
   if (e1 <= e0 + kMidpointEnergySlack * at_stake) return;
+  SolveCounts counts;  // the whole step's solve, discarded, and both halves'
+  counts.add(ws);
   state = start;
   s.contacts = contacts;
   implicit_midpoint_step(model, state, ws, 0.5 * h, t, halvings + 1);
+  counts.add(ws);
   implicit_midpoint_step(model, state, ws, 0.5 * h, t + 0.5 * h, halvings + 1);
+  counts.add(ws);
+  counts.store(ws);
 }
 
 void method_step(const Model& model, State& state, Workspace& ws, double h, double t) {
@@ -909,7 +930,8 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   const State start = state;
   const ContactSet contacts = s.contacts;
   method_step(model, state, ws, h, t);
-  int newton = ws.newton_iterations, cg = ws.cg_iterations, factorizations = ws.factorizations;
+  SolveCounts counts;
+  counts.add(ws);
   s.kicks.assign(model.num_vertices(), Vec3::Zero());
   const double settled = kKickTolerance * contact_length(model);  // m
   // Each round solves with the impulses found so far; the stage's further corrections of
@@ -928,14 +950,10 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
     state = start;
     s.contacts = contacts;
     method_step(model, state, ws, h, t);
-    newton += ws.newton_iterations;
-    cg += ws.cg_iterations;
-    factorizations += ws.factorizations;
+    counts.add(ws);
   }
   s.kicks.clear();
-  ws.newton_iterations = newton;
-  ws.cg_iterations = cg;
-  ws.factorizations = factorizations;
+  counts.store(ws);
 }
 
 // A substep whose Newton solve neither converged nor reduced the residual to
@@ -968,7 +986,7 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
   const bool stage = needs_cloth_contact(model);
   const bool closed = !supplies_energy(model);  // the energy rule of keep_substep applies
   int substeps = implicit_substeps(model, state);
-  int newton = 0, cg = 0, factorizations = 0;
+  SolveCounts counts;
   for (;;) {
     const State start = state;
     const ContactSet contacts = s.contacts;
@@ -983,9 +1001,7 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
         s.v_substep = state.v;
       }
       substep(model, state, ws, s, h, state.t + k * h, stage);
-      newton += ws.newton_iterations;
-      cg += ws.cg_iterations;
-      factorizations += ws.factorizations;
+      counts.add(ws);
       kept = kept && keep_substep(model, state, s.report, s.x_substep, s.v_substep);
     }
     if (kept || last_try) break;
@@ -993,9 +1009,7 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
     s.contacts = contacts;
     substeps = std::min(2 * substeps, kMaxSubsteps);
   }
-  ws.newton_iterations = newton;
-  ws.cg_iterations = cg;
-  ws.factorizations = factorizations;
+  counts.store(ws);
   ws.substeps = substeps;
 }
 
