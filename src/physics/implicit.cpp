@@ -235,16 +235,21 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
     report.seconds_cg += processor_seconds_since(t0);
     return r;
   };
+  // Factorizes A, with the constrained directions' stiffness added, by compute(); counts
+  // and times it. False when the factor is not positive definite.
+  auto factorize = [&](auto compute) {
+    const std::clock_t t0 = std::clock();
+    constraint_stiffness(s.contacts, A, s.additions);
+    const bool factorized = compute();
+    report.seconds_preconditioner += processor_seconds_since(t0);
+    if (factorized) report.factorizations += 1;
+    return factorized;
+  };
   CgResult stale;
   if (opt.linear_solver == LinearSolver::ScalarCholesky ||
       opt.linear_solver == LinearSolver::ScaledScalarCholesky) {
-    const std::clock_t t0 = std::clock();
-    constraint_stiffness(s.contacts, A, s.additions);
-    const bool factorized = s.scalar.compute(
-        A, opt.linear_solver == LinearSolver::ScaledScalarCholesky, s.additions);
-    report.seconds_preconditioner += processor_seconds_since(t0);
-    if (factorized) {
-      report.factorizations += 1;
+    const bool scaled = opt.linear_solver == LinearSolver::ScaledScalarCholesky;
+    if (factorize([&] { return s.scalar.compute(A, scaled, s.additions); })) {
       return pcg(s.scalar, max_cg);
     }
   }
@@ -257,12 +262,7 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
       }
     }
     s.refactor = false;
-    std::clock_t t0 = std::clock();
-    constraint_stiffness(s.contacts, A, s.additions);
-    const bool factorized = s.cholesky.compute(A, s.additions);
-    report.seconds_preconditioner += processor_seconds_since(t0);
-    if (factorized) {
-      report.factorizations += 1;
+    if (factorize([&] { return s.cholesky.compute(A, s.additions); })) {
       CgResult r = pcg(s.cholesky, max_cg);
       r.iterations += stale.iterations;
       return r;

@@ -13,7 +13,8 @@
 // entries they couple, as CholeskyPreconditioner does, which keeps it positive definite.
 // The factor has a ninth of the block factor's non-zeros and costs 27 times fewer flops;
 // apply() solves for the three coordinates at once. Tests:
-// tests/physics/implicit_test.cpp (LinearSolver.Scalar*).
+// tests/physics/scalar_preconditioner_test.cpp and, in whole steps, tests/physics/
+// implicit_test.cpp (LinearSolver.ImplicitStepsWithScalarFactorsAgreeWithCholesky).
 #pragma once
 
 #include <Eigen/SparseCholesky>
