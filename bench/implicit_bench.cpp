@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -64,27 +65,15 @@ Setup make_setup(int triangles, const std::string& material) {
   return s;
 }
 
-// The scene's implicit.linear_solver names.
-const std::vector<std::pair<std::string, LinearSolver>> kSolvers = {
-    {"cholesky", LinearSolver::Cholesky},
-    {"block_jacobi_pcg", LinearSolver::BlockJacobiPcg},
-    {"scalar_cholesky", LinearSolver::ScalarCholesky},
-    {"scaled_scalar_cholesky", LinearSolver::ScaledScalarCholesky},
-};
-
-const char* solver_name(LinearSolver solver) {
-  for (const auto& [name, value] : kSolvers) {
-    if (value == solver) return name.c_str();
-  }
-  return "?";
-}
-
 int usage(const char* program) {
+  std::string names;
+  for (LinearSolver s : kLinearSolvers) {
+    names += std::string(names.empty() ? "" : ", ") + linear_solver_name(s);
+  }
   std::fprintf(stderr,
                "usage: %s [triangles] [cotton|linen|silk] [seconds] [cg_tolerance] "
-               "[--solver NAME]...\n  NAME: cholesky, block_jacobi_pcg, scalar_cholesky, "
-               "scaled_scalar_cholesky (default: cholesky and block_jacobi_pcg)\n",
-               program);
+               "[--solver NAME]...\n  NAME: %s (default: cholesky and block_jacobi_pcg)\n",
+               program, names.c_str());
   return 2;
 }
 
@@ -98,10 +87,10 @@ int main(int argc, char** argv) {
     if (arg == "--help" || arg == "-h") return usage(argv[0]);
     if (arg == "--solver" && k + 1 < argc) {
       const std::string name = argv[++k];
-      const auto it = std::find_if(kSolvers.begin(), kSolvers.end(),
-                                   [&](const auto& entry) { return entry.first == name; });
-      if (it == kSolvers.end()) return usage(argv[0]);
-      solvers.push_back(it->second);
+      const auto* it = std::find_if(std::begin(kLinearSolvers), std::end(kLinearSolvers),
+                                    [&](LinearSolver s) { return name == linear_solver_name(s); });
+      if (it == std::end(kLinearSolvers)) return usage(argv[0]);
+      solvers.push_back(*it);
     } else {
       positional.push_back(arg);
     }
@@ -156,7 +145,7 @@ int main(int argc, char** argv) {
       }
       const double total = static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
       std::printf("%-22s %-16s 1/%-6.0f %-6d %6d %6d %8.2f %9.1f %6.2f %8.2f %8.2f %8.2f %8.2f %7.2f %6.4f%s\n",
-                  solver_name(solver),
+                  linear_solver_name(solver),
                   integrator_name(run.integrator), 1.0 / dt, run.newton, s.model.num_triangles(),
                   steps, double(newton) / steps, double(cg) / steps, double(factorizations) / steps, 1e3 * total / steps,
                   1e3 * jac / steps, 1e3 * pre / steps, 1e3 * cgt / steps, 1e3 * res / steps,

@@ -37,6 +37,16 @@ const char* integrator_name(Integrator integrator) {
   return "unknown";
 }
 
+const char* linear_solver_name(LinearSolver solver) {
+  switch (solver) {
+    case LinearSolver::Cholesky: return "cholesky";
+    case LinearSolver::BlockJacobiPcg: return "block_jacobi_pcg";
+    case LinearSolver::ScalarCholesky: return "scalar_cholesky";
+    case LinearSolver::ScaledScalarCholesky: return "scaled_scalar_cholesky";
+  }
+  return "unknown";
+}
+
 // Eq. 1-2 of the paper: distribution factors r_u, r_v and the rest area of each triangle;
 // lumped masses rho_A * A / 3 per corner.
 void precompute_rest(Model& model) {

@@ -75,6 +75,11 @@ enum class LinearSolver {
                    // Newton matrix, factorized at every solve (scalar_preconditioner.h)
   ScaledScalarCholesky,  // the same with the 3x3 block-Jacobi scaling around it
 };
+// Every linear solver, and its name in scenes (implicit.linear_solver) and benchmarks.
+constexpr LinearSolver kLinearSolvers[] = {LinearSolver::Cholesky, LinearSolver::BlockJacobiPcg,
+                                           LinearSolver::ScalarCholesky,
+                                           LinearSolver::ScaledScalarCholesky};
+const char* linear_solver_name(LinearSolver solver);
 
 // What the line search of each Newton iteration measures.
 enum class LineSearch {

@@ -188,14 +188,22 @@ std::string JsonReader::string(const std::string& key) {
 
 std::string JsonReader::choice(const std::string& key, std::initializer_list<const char*> choices,
                                const std::string& fallback) {
-  used_.insert(key);
-  return has(key) ? choice(key, choices) : fallback;
+  return choice(key, std::vector<std::string>(choices.begin(), choices.end()), fallback);
 }
 
 std::string JsonReader::choice(const std::string& key,
                                std::initializer_list<const char*> choices) {
+  return choice(key, std::vector<std::string>(choices.begin(), choices.end()));
+}
+
+std::string JsonReader::choice(const std::string& key, const std::vector<std::string>& choices,
+                               const std::string& fallback) {
+  used_.insert(key);
+  return has(key) ? choice(key, choices) : fallback;
+}
+
+std::string JsonReader::choice(const std::string& key, const std::vector<std::string>& valid) {
   const std::string value = string(key);
-  std::vector<std::string> valid(choices.begin(), choices.end());
   if (std::find(valid.begin(), valid.end(), value) != valid.end()) return value;
   std::string list;
   for (const std::string& c : valid) list += (list.empty() ? "" : ", ") + c;

@@ -51,6 +51,9 @@ class JsonReader {
   std::string choice(const std::string& key, std::initializer_list<const char*> choices,
                      const std::string& fallback);
   std::string choice(const std::string& key, std::initializer_list<const char*> choices);
+  std::string choice(const std::string& key, const std::vector<std::string>& choices,
+                     const std::string& fallback);
+  std::string choice(const std::string& key, const std::vector<std::string>& choices);
   Vec3 vec3(const std::string& key, const Vec3& fallback);
   Vec3 vec3(const std::string& key);
   Vec2 vec2(const std::string& key, Range range = Range::any());

@@ -387,13 +387,13 @@ Scene parse_scene(const Json& doc, const std::string& file) {
     scene.implicit.newton_motion_tolerance = im.number(
         "newton_motion_tolerance", defaults.newton_motion_tolerance, Range::non_negative());
     scene.implicit.cg_tolerance = im.number("cg_tolerance", defaults.cg_tolerance, Range::positive());
+    std::vector<std::string> solvers;
+    for (LinearSolver s : kLinearSolvers) solvers.emplace_back(linear_solver_name(s));
     const std::string solver = im.choice(
-        "linear_solver",
-        {"cholesky", "block_jacobi_pcg", "scalar_cholesky", "scaled_scalar_cholesky"}, "cholesky");
-    scene.implicit.linear_solver = solver == "cholesky"           ? LinearSolver::Cholesky
-                                   : solver == "block_jacobi_pcg" ? LinearSolver::BlockJacobiPcg
-                                   : solver == "scalar_cholesky"  ? LinearSolver::ScalarCholesky
-                                                                  : LinearSolver::ScaledScalarCholesky;
+        "linear_solver", solvers, linear_solver_name(defaults.linear_solver));
+    for (LinearSolver s : kLinearSolvers) {
+      if (solver == linear_solver_name(s)) scene.implicit.linear_solver = s;
+    }
     const std::string search = im.choice("line_search", {"potential", "residual"}, "potential");
     scene.implicit.line_search =
         search == "potential" ? LineSearch::Potential : LineSearch::Residual;

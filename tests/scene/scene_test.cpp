@@ -112,6 +112,25 @@ TEST(SceneValidation, ImplicitContactModel) {
             "implicit.contact: unknown value \"penalty\"; expected one of constraints, barrier");
 }
 
+// The linear solver: the sparse Cholesky preconditioner by default, each other by its name.
+TEST(SceneValidation, ImplicitLinearSolver) {
+  Json doc = valid();
+  EXPECT_EQ(parse_scene(doc, "").implicit.linear_solver, LinearSolver::Cholesky);
+  const std::pair<const char*, LinearSolver> names[] = {
+      {"cholesky", LinearSolver::Cholesky},
+      {"block_jacobi_pcg", LinearSolver::BlockJacobiPcg},
+      {"scalar_cholesky", LinearSolver::ScalarCholesky},
+      {"scaled_scalar_cholesky", LinearSolver::ScaledScalarCholesky}};
+  for (const auto& [name, solver] : names) {
+    doc["implicit"]["linear_solver"] = name;
+    EXPECT_EQ(parse_scene(doc, "").implicit.linear_solver, solver) << name;
+  }
+  doc["implicit"]["linear_solver"] = "choleski";
+  EXPECT_EQ(parse_error(doc),
+            "implicit.linear_solver: unknown value \"choleski\" (did you mean \"cholesky\"?); "
+            "expected one of cholesky, block_jacobi_pcg, scalar_cholesky, scaled_scalar_cholesky");
+}
+
 // The barrier's activation distance: unset (0, the quarter edge) by default, in m when given.
 TEST(SceneValidation, ImplicitBarrierDistance) {
   Json doc = valid();
