@@ -3,9 +3,10 @@
 // and the step's processor time (one thread unless --threads). Totals at the end.
 //   ./build/bench/tissu_implicit_profile SCENE [--set KEY=VALUE]... [--every N] [--detail]
 //       [--threads N]   (default 1; times are processor time, summed over the threads)
-// --detail adds, for each printed step, its last substep's Newton iterations one by one
-// (residual, line-search length, CG iterations), factorizations, contact changes and the
-// processor time of its stages. A run that diverges stops there, averages over the steps
+// --detail adds, for each printed step, the substeps its approach rule planned and those it
+// took, and its last substep's Newton iterations one by one (residual, line-search length,
+// the barrier's longest step, the merit's change, vertices within dhat, CG iterations),
+// factorizations, contact changes and the processor time of its stages. A run that diverges stops there, averages over the steps
 // it took and exits with 3.
 #include <algorithm>
 #include <cstdio>
@@ -23,18 +24,25 @@ using namespace tissu;
 
 namespace {
 
+// One line of per-iteration values, each printed with format.
+template <typename T>
+void print_row(const char* label, const std::vector<T>& values, const char* format) {
+  std::printf("       %-11s", label);
+  for (const T& value : values) std::printf(format, value);
+  std::printf("\n");
+}
+
 void print_detail(const ImplicitReport& r) {
   std::printf("       last substep: %d factorizations, %d contact changes, %d stuck\n",
               r.factorizations, r.contact_changes, r.stuck_contacts);
-  std::printf("       residuals:");
-  for (double res : r.residuals) std::printf(" %.2e", res);
-  std::printf("\n       lengths:  ");
-  for (double len : r.step_lengths) std::printf(" %.2f", len);
-  std::printf("\n       max dv m/s:");
-  for (double dv : r.velocity_changes) std::printf(" %.1e", dv);
-  std::printf("\n       CG:       ");
-  for (int n : r.cg_per_iteration) std::printf(" %d", n);
-  std::printf("\n       ms: jacobian %.1f, preconditioner %.1f, cg %.1f, residual %.1f, contact %.1f\n",
+  print_row("residuals:", r.residuals, " %.2e");
+  print_row("lengths:", r.step_lengths, " %.2f");
+  print_row("max dv m/s:", r.velocity_changes, " %.1e");
+  print_row("cap:", r.feasible_lengths, " %.2f");
+  print_row("merit J:", r.merit_changes, " %.1e");
+  print_row("barrier:", r.barrier_contacts, " %d");
+  print_row("CG:", r.cg_per_iteration, " %d");
+  std::printf("       ms: jacobian %.1f, preconditioner %.1f, cg %.1f, residual %.1f, contact %.1f\n",
               1e3 * r.seconds_jacobian, 1e3 * r.seconds_preconditioner, 1e3 * r.seconds_cg,
               1e3 * r.seconds_residual, 1e3 * r.seconds_contact);
 }
@@ -83,6 +91,7 @@ int main(int argc, char** argv) {
   long long newton = 0, cg = 0, factorizations = 0, steps = 0;
   bool diverged = false;
   for (long long k = 0; k < scene.steps; ++k) {
+    const int planned = detail ? implicit_substeps(sim.model, sim.state) : 0;
     const std::clock_t t0 = std::clock();
     const auto divergence = step(sim.model, sim.state, ws);
     const double ms = 1e3 * static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
@@ -95,7 +104,10 @@ int main(int argc, char** argv) {
     if (r && (k % every == 0 || divergence)) {
       std::printf("%6lld %8.4f %4d %6d %6d %8d %8.1f\n", k, sim.state.t, ws.substeps,
                   ws.newton_iterations, ws.cg_iterations, r->contacts, ms);
-      if (detail) print_detail(*r);
+      if (detail) {
+        std::printf("       substeps planned %d, taken %d\n", planned, ws.substeps);
+        print_detail(*r);
+      }
     }
     if (divergence) {
       std::printf("diverged at t = %g s: %s\n", divergence->time, divergence->reason.c_str());

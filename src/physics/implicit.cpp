@@ -411,7 +411,13 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     std::swap(fresh.step_lengths, report.step_lengths);
     std::swap(fresh.cg_per_iteration, report.cg_per_iteration);
     std::swap(fresh.velocity_changes, report.velocity_changes);
+    std::swap(fresh.feasible_lengths, report.feasible_lengths);
+    std::swap(fresh.barrier_contacts, report.barrier_contacts);
+    std::swap(fresh.merit_changes, report.merit_changes);
     fresh.velocity_changes.clear();
+    fresh.feasible_lengths.clear();
+    fresh.barrier_contacts.clear();
+    fresh.merit_changes.clear();
     fresh.residuals.clear();
     fresh.step_lengths.clear();
     fresh.cg_per_iteration.clear();
@@ -542,7 +548,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
 
     // The barrier's line search stops short of the first touch of an obstacle.
     const double longest = s.barrier.largest_step(s.v, s.dv);
-    double alpha = longest, best_alpha = 0.0, best = base, accepted = 0.0;
+    double alpha = longest, best_alpha = 0.0, best = base, accepted = 0.0, taken = base;
     for (int trial = 0; trial <= kMaxHalvings; ++trial, alpha *= 0.5) {
       const double value = merit.at(alpha);
       const double bound = opt.line_search == LineSearch::Residual
@@ -550,6 +556,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
                                : base + kSufficientDecrease * alpha * slope;
       if (value <= bound) {
         accepted = alpha;
+        taken = value;
         break;
       }
       if (value < best) {
@@ -560,6 +567,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     if (accepted == 0.0) {
       report.line_search_failed = best_alpha == 0.0;
       accepted = best_alpha > 0.0 ? best_alpha : (k == 0 ? 0.0 : longest);
+      taken = best;
     }
     double largest_change = 0.0;
     for (int i = 0; i < n; ++i) {
@@ -571,6 +579,9 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     s.barrier.freeze_damping(s.v, state.v);
     report.step_lengths.push_back(accepted);
     report.velocity_changes.push_back(largest_change);
+    report.feasible_lengths.push_back(longest);
+    report.merit_changes.push_back(taken - base);
+    if (s.barrier.enabled()) report.barrier_contacts.push_back(s.barrier.active(s.v));
     report.seconds_residual += processor_seconds_since(t0);
 
     // Vertices the new iterate puts inside an obstacle get contacts, and the iterate meets

@@ -43,6 +43,14 @@ struct ImplicitReport {
   std::vector<double> step_lengths;  // line-search step per iteration
   std::vector<int> cg_per_iteration;  // per solve
   std::vector<double> velocity_changes;  // per iteration, the largest |v change| taken, m/s
+  // Per iteration: the longest step the barrier's line search allowed (0.9 of the first
+  // touch of an obstacle; 1 where nothing would touch, and without the barrier), the
+  // merit's change at the length taken (J for the incremental potential, sqrt(kg) m/s for
+  // the residual; 0 where no length decreased it) and, with the barrier only, the vertices
+  // within dhat of an obstacle after it.
+  std::vector<double> feasible_lengths;
+  std::vector<double> merit_changes;
+  std::vector<int> barrier_contacts;
   bool cg_failed = false;  // some linear solve missed cg_tolerance (its result was
                            // still used, guarded by the line search)
   bool line_search_failed = false;  // some direction decreased the merit at no length

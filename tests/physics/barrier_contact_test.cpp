@@ -413,6 +413,38 @@ TEST(Barrier, SheetDroppedOnASphereNeverEndsInsideNorGainsEnergy) {
   }
 }
 
+// The report's per-iteration record of the line search (what tissu_implicit_profile
+// --detail prints): one entry per Newton iteration in each list; the length taken is at
+// most the barrier's longest step, the merit never rises, and the vertices within dhat are
+// counted. Landing on the sphere at 1/30 s, some first direction would carry a vertex
+// into the sphere, and the longest step is shorter than 1 there.
+TEST(Barrier, ReportRecordsEachIterationsLineSearch) {
+  const double h = 1.0 / 30.0;  // s
+  Sheet s = barrier_sheet(0.6, 14, h);
+  const double radius = 0.15, thickness = 0.002;  // m
+  s.model.obstacles.push_back(make_obstacle(ObstacleKind::Sphere, Vec3(0.02, -0.01, -radius - 0.05),
+                                            Vec3::UnitZ(), radius, 0.3, thickness));
+  Workspace ws;
+  int capped = 0, near = 0;  // iterations cut short by the barrier; largest count within dhat
+  for (int k = 0; k < static_cast<int>(0.5 / h); ++k) {
+    ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+    const ImplicitReport& r = *last_implicit_report(ws);
+    const size_t n = static_cast<size_t>(r.newton_iterations);
+    ASSERT_EQ(r.step_lengths.size(), n) << "step " << k;
+    ASSERT_EQ(r.feasible_lengths.size(), n) << "step " << k;
+    ASSERT_EQ(r.merit_changes.size(), n) << "step " << k;
+    ASSERT_EQ(r.barrier_contacts.size(), n) << "step " << k;
+    for (size_t i = 0; i < n; ++i) {
+      EXPECT_LE(r.step_lengths[i], r.feasible_lengths[i]) << "step " << k << " iteration " << i;
+      EXPECT_LE(r.merit_changes[i], 0.0) << "step " << k << " iteration " << i;
+      capped += r.feasible_lengths[i] < 1.0 ? 1 : 0;
+      near = std::max(near, r.barrier_contacts[i]);
+    }
+  }
+  EXPECT_GT(capped, 0) << "no direction was cut short at the sphere";
+  EXPECT_GT(near, 0) << "the sheet lands within dhat";
+}
+
 // A midpoint step with the barrier that gains energy is taken again as two halves
 // (implicit.cpp, implicit_midpoint_step); the step's Newton, CG and factorization counts
 // then include every solve it made, not only the last half's. On the sheet dropped on the
