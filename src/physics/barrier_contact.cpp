@@ -254,8 +254,10 @@ void BarrierContact::freeze_damping(const Vec3List& v, const Vec3List& v_n) {
   for (int i = 0; i < model_->num_vertices(); ++i) {
     if (model_->pinned[i]) continue;
     const Vec3 x = end_position(v, i);
+    const double largest = kMaxStepDamping * model_->mass[i] / beta_end_;  // kg/s
     for (const PlacedObstacle& o : placed_) {
-      const NormalDamping law = vertex_damping(o, x, kappa_[i], model_->mass[i], dhat_, zeta);
+      NormalDamping law = vertex_damping(o, x, kappa_[i], model_->mass[i], dhat_, zeta);
+      law.coefficient = std::min(law.coefficient, largest);
       if (law.coefficient > 0.0) damping_.push_back({i, law});
     }
   }

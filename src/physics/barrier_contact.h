@@ -85,6 +85,17 @@ struct NormalDamping {
   // whose gradient in v is -beta f.
   double potential(const Vec3& v) const;
 };
+// The largest h c / m of the damping in a step whose end positions move by h (s) per unit
+// of velocity (beta_end). Near the surface c grows like 1/d, as the barrier's force does,
+// so a vertex moving away from the surface faster than about dhat / (2 zeta dt) (kappa =
+// m / dt^2) is held back by a damping stronger than the barrier at every gap: the solve
+// presses it ever closer, with c ever larger, until the step diverges (BDF-2 on the demo at
+// 1/60 s; docs/implicit.md). Capped, the damping's force stays below kMaxStepDamping m |u| /
+// h (u the normal velocity relative to the surface) while the barrier's grows without
+// bound. At 16 one backward Euler step already takes 94% of u; the cap acts below a gap of
+// about zeta (h / dt) dhat / 7 and vanishes as h does.
+constexpr double kMaxStepDamping = 16.0;
+
 // The damping of a vertex of mass m (kg) at p against an obstacle, for kappa (kg/s^2),
 // dhat (m) and the ratio zeta to critical damping: zero coefficient for d >= dhat or d <= 0.
 NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
@@ -125,9 +136,10 @@ class BarrierContact {
   void make_feasible(Vec3List& v, const Vec3List& v_base,
                      const std::function<const Vec3List&()>& forces) const;
 
-  // Takes the normal damping's normals and coefficients at x_end(v) and holds them until
-  // the next call (Newton calls it at each accepted iterate, so a converged step meets
-  // the damping at its end positions; within a line search the damping is linear in v).
+  // Takes the normal damping's normals and coefficients at x_end(v), each coefficient at
+  // most kMaxStepDamping m / beta_end, and holds them until the next call (Newton calls it
+  // at each accepted iterate, so a converged step meets the damping at its end positions;
+  // within a line search the damping is linear in v).
   // The damping acts on the velocity the step ends with, v_end = v_n + a (v - v_n) with
   // a = beta_end / beta and v_n (m/s) the velocities at the start: v itself for backward
   // Euler and BDF-2, 2 w - v_n for the midpoint rule's w, whose damping is then
