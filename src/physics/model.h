@@ -101,9 +101,9 @@ struct ImplicitOptions {
   double barrier_distance = 0.0;   // the barrier's dhat, m; 0: a quarter of the mean rest
                                    // edge (barrier_contact.h)
   double barrier_stiffness_dt = 0.0;  // s: the barrier's kappa is m / this^2; 0: the step dt
-  double barrier_damping = 0.0;  // the barrier's normal damping as a ratio of critical
-                                 // (dimensionless, >= 0; 0: none, the default; opt-in
-                                 // since BDF-2 diverges with it on the demo at 1/60 s)
+  double barrier_damping = 1.0;  // the barrier's normal damping as a ratio of critical
+                                 // (dimensionless, >= 0; 1, critical, the default; 0:
+                                 // none, the elastic barrier)
   int max_newton_iterations = 8;   // 1 = one Newton iteration (Baraff & Witkin); a step
                                    // the line search shortened, or whose contacts changed,
                                    // gets a few more (docs/implicit.md)

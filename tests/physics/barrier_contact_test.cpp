@@ -301,7 +301,7 @@ TEST(Barrier, EveryMethodRestsWhereTheBarrierHoldsTheWeight) {
 double resting_gap(double dhat, double h, double g) { return holding_gap(g * h * h, dhat, 1.0); }
 
 // A flat sheet dropped 3 cm onto a plane, with the barrier's normal damping at critical
-// (zeta = 1; off by default), lands and stays, with every implicit method and step. A vertex has landed once its gap has come down to the gap where the barrier holds
+// (zeta = 1, the default), lands and stays, with every implicit method and step. A vertex has landed once its gap has come down to the gap where the barrier holds
 // its weight; after that it never rises more than 0.01 dhat (0.1 mm here) above that gap,
 // never moves up at more than 5 mm/s while above it, and comes back up to it from the
 // compression of its landing at less than 0.1 m/s. Without the barrier's normal damping

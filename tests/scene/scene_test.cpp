@@ -144,9 +144,9 @@ TEST(SceneValidation, ImplicitBarrierDistance) {
   doc["implicit"] = Json::parse(R"({"barrier_stiffness_dt": -1})");
   EXPECT_EQ(parse_error(doc), "implicit.barrier_stiffness_dt: must be > 0, got -1");
   // The normal damping: critical (1) by default, 0 turns it off, never negative.
-  EXPECT_EQ(parse_scene(valid(), "").implicit.barrier_damping, 0.0);
-  doc["implicit"] = Json::parse(R"({"barrier_damping": 1})");
-  EXPECT_EQ(parse_scene(doc, "").implicit.barrier_damping, 1.0);
+  EXPECT_EQ(parse_scene(valid(), "").implicit.barrier_damping, 1.0);
+  doc["implicit"] = Json::parse(R"({"barrier_damping": 0})");
+  EXPECT_EQ(parse_scene(doc, "").implicit.barrier_damping, 0.0);
   doc["implicit"] = Json::parse(R"({"barrier_damping": -0.5})");
   EXPECT_EQ(parse_error(doc), "implicit.barrier_damping: must be >= 0, got -0.5");
 }
