@@ -227,7 +227,7 @@ void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
                                    const std::function<const Vec3List&()>& forces) const {
   if (!enabled_) return;
   const double keep = 0.5 * dhat_;  // m
-  const Vec3List* f = nullptr;      // N, evaluated once a vertex needs them
+  const Vec3List* f = nullptr;      // N, at the first close vertex: before any v changes
   for (int i = 0; i < model_->num_vertices(); ++i) {
     if (model_->pinned[i]) continue;
     for (size_t o = 0; o < placed_.size(); ++o) {

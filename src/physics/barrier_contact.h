@@ -129,7 +129,8 @@ class BarrierContact {
   // x_end(v) is closer than dhat / 2 to an obstacle out along the normal to the larger of
   // its gap at x_n and the gap where the barrier holds the impulse pressing it (from its
   // momentum against the surface, M (v_surface - v_base), and the forces f(x_n), N, that
-  // forces() returns, called only if a vertex is that close), at most dhat / 2. A resting
+  // forces() returns, called only if a vertex is that close, and then before any v is
+  // changed, so the forces see the velocities v came in with), at most dhat / 2. A resting
   // vertex starts where it rests; one whose gap at x_n no load explains (a sheet laid on the
   // surface, at a gap of rounding) starts where the load is held (docs/implicit.md, "The
   // barrier's initial guess").
