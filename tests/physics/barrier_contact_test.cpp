@@ -246,6 +246,16 @@ Sheet sheet_laid_on_a_plane(double size, int nx, double dt, double friction) {
   return s;
 }
 
+// The sheet of the sphere tests, 0.6 m in 14 x 14 cells, 5 cm above a sphere of radius
+// 0.15 m (thickness 2 mm, friction 0.3) placed slightly off its centre, for steps of dt (s).
+Sheet sheet_above_a_sphere(double dt) {
+  Sheet s = barrier_sheet(0.6, 14, dt);
+  const double radius = 0.15, thickness = 0.002;  // m
+  s.model.obstacles.push_back(make_obstacle(ObstacleKind::Sphere, Vec3(0.02, -0.01, -radius - 0.05),
+                                            Vec3::UnitZ(), radius, 0.3, thickness));
+  return s;
+}
+
 // A sheet laid on a plane with friction at half dhat, at 1/30 s: it settles within a second
 // steps onto the gap where the barrier holds its weight, inside dhat, and then stays there
 // (no creep along the plane, no bounce off it).
@@ -388,12 +398,8 @@ TEST(Barrier, SheetDroppedOnASphereNeverEndsInsideNorGainsEnergy) {
        {Integrator::BackwardEuler, Integrator::Bdf2, Integrator::ImplicitMidpoint}) {
     for (double h : {1.0 / 60.0, 1.0 / 30.0}) {
       SCOPED_TRACE(::testing::Message() << integrator_name(integrator) << " h = " << h);
-      Sheet s = barrier_sheet(0.6, 14, h);
+      Sheet s = sheet_above_a_sphere(h);
       s.model.integrator = integrator;
-      const double radius = 0.15, thickness = 0.002;
-      s.model.obstacles.push_back(make_obstacle(ObstacleKind::Sphere,
-                                                Vec3(0.02, -0.01, -radius - 0.05),
-                                                Vec3::UnitZ(), radius, 0.3, thickness));
       s.model.air_damping = 0.3;
       Workspace ws;
       const double e0 = total_energy(s.model, s.state);
@@ -420,10 +426,7 @@ TEST(Barrier, SheetDroppedOnASphereNeverEndsInsideNorGainsEnergy) {
 // into the sphere, and the longest step is shorter than 1 there.
 TEST(Barrier, ReportRecordsEachIterationsLineSearch) {
   const double h = 1.0 / 30.0;  // s
-  Sheet s = barrier_sheet(0.6, 14, h);
-  const double radius = 0.15, thickness = 0.002;  // m
-  s.model.obstacles.push_back(make_obstacle(ObstacleKind::Sphere, Vec3(0.02, -0.01, -radius - 0.05),
-                                            Vec3::UnitZ(), radius, 0.3, thickness));
+  Sheet s = sheet_above_a_sphere(h);
   Workspace ws;
   int capped = 0, near = 0;  // iterations cut short by the barrier; largest count within dhat
   for (int k = 0; k < static_cast<int>(0.5 / h); ++k) {
@@ -453,13 +456,10 @@ TEST(Barrier, ReportRecordsEachIterationsLineSearch) {
 // demo's divergence at t = 0.48 s, in a second's worth of small steps; kMaxStepDamping).
 TEST(Barrier, SheetThrownOnASphereWithDampingNeitherDivergesNorGainsEnergy) {
   const double h = 1.0 / 60.0;  // s
-  Sheet s = barrier_sheet(0.6, 14, h);
+  Sheet s = sheet_above_a_sphere(h);
   s.model.integrator = Integrator::Bdf2;
   s.model.implicit.barrier_damping = 1.0;
   s.model.implicit.barrier_distance = 0.001;  // m
-  const double radius = 0.15, thickness = 0.002;  // m
-  s.model.obstacles.push_back(make_obstacle(ObstacleKind::Sphere, Vec3(0.02, -0.01, -radius - 0.05),
-                                            Vec3::UnitZ(), radius, 0.3, thickness));
   s.model.air_damping = 0.3;
   for (Vec3& v : s.state.v) v = Vec3(0.0, 0.0, -2.0);  // m/s
   Workspace ws;
@@ -484,11 +484,8 @@ TEST(Barrier, SheetThrownOnASphereWithDampingNeitherDivergesNorGainsEnergy) {
 // iterations than their last solve made. A step never reports fewer.
 TEST(Barrier, HalvedMidpointStepCountsEverySolve) {
   const double h = 1.0 / 60.0;  // s
-  Sheet s = barrier_sheet(0.6, 14, h);
+  Sheet s = sheet_above_a_sphere(h);
   s.model.integrator = Integrator::ImplicitMidpoint;
-  const double radius = 0.15, thickness = 0.002;  // m
-  s.model.obstacles.push_back(make_obstacle(ObstacleKind::Sphere, Vec3(0.02, -0.01, -radius - 0.05),
-                                            Vec3::UnitZ(), radius, 0.3, thickness));
   s.model.air_damping = 0.3;
   Workspace ws;
   int halved = 0;  // one-substep steps that counted more than their last solve
