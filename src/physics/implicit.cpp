@@ -405,22 +405,19 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   ForcePlan& plan = scratch_of(ws).forces;
   ImplicitReport& report = s.report;
   {
-    // Reset, keeping the vectors' capacity.
+    // Reset, keeping the per-iteration vectors' capacity.
     ImplicitReport fresh;
-    std::swap(fresh.residuals, report.residuals);
-    std::swap(fresh.step_lengths, report.step_lengths);
-    std::swap(fresh.cg_per_iteration, report.cg_per_iteration);
-    std::swap(fresh.velocity_changes, report.velocity_changes);
-    std::swap(fresh.feasible_lengths, report.feasible_lengths);
-    std::swap(fresh.barrier_contacts, report.barrier_contacts);
-    std::swap(fresh.merit_changes, report.merit_changes);
-    fresh.velocity_changes.clear();
-    fresh.feasible_lengths.clear();
-    fresh.barrier_contacts.clear();
-    fresh.merit_changes.clear();
-    fresh.residuals.clear();
-    fresh.step_lengths.clear();
-    fresh.cg_per_iteration.clear();
+    auto keep = [](auto& kept, auto& reused) {
+      std::swap(kept, reused);
+      kept.clear();
+    };
+    keep(fresh.residuals, report.residuals);
+    keep(fresh.step_lengths, report.step_lengths);
+    keep(fresh.cg_per_iteration, report.cg_per_iteration);
+    keep(fresh.velocity_changes, report.velocity_changes);
+    keep(fresh.feasible_lengths, report.feasible_lengths);
+    keep(fresh.barrier_contacts, report.barrier_contacts);
+    keep(fresh.merit_changes, report.merit_changes);
     report = std::move(fresh);
   }
 
