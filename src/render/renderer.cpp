@@ -120,7 +120,8 @@ struct Renderer::Impl {
       ground = ground_program(false, false);
       ground_opaque = ground_program(false, true);
       if (settings.ground->shadow) {
-        shadow_map = std::make_unique<ShadowMap>(kShadowMapSize);
+        shadow_map = std::make_unique<ShadowMap>(
+            settings.ground->shadow_map_texels > 0 ? settings.ground->shadow_map_texels : kShadowMapSize);
         ground_shadowed = ground_program(true, false);
         ground_shadowed_opaque = ground_program(true, true);
       }
