@@ -269,6 +269,34 @@ TEST(render_frame, GroundShowsTheClothsShadow) {
   EXPECT_EQ(brightness(pixel(shadowed, 128, ox, oy)), brightness(pixel(lit, 128, ox, oy)));
 }
 
+// The ground's look-up steepens the bilinear comparison's one-texel ramp to half a texel:
+// a directional light casts hard shadows (a much finer map's edge is sharp).
+TEST(render_frame, ShadowEdgeIsHalfATexelSoft) {
+  RenderSettings s = top_view(256, 256, 4);
+  s.lights = {Light{Vec3(1, 0, -1), Vec3::Ones(), 1.0}};  // shadow shifted along +x
+  s.ground = Ground{};
+  s.ground->height = -0.5;
+  s.ground->shadow_map_texels = 8;  // coarse, so that a texel spans many pixels
+  const std::vector<uint8_t> image = render(s, test::flat_cloth(4, 1.0));
+  // The shadow falls on x in [0, 1] of the ground; its far edge is at x = 1 m.
+  const auto [dx, dy] = project(s, Vec3(0.7, 0, -0.5));
+  const auto [lx, ly] = project(s, Vec3(1.4, 0, -0.5));
+  const int dark = brightness(pixel(image, 256, dx, dy));
+  const int lit = brightness(pixel(image, 256, lx, ly));
+  ASSERT_GT(lit, dark + 60);
+  int ramp = 0;
+  for (int x = dx; x <= lx; ++x) {
+    const int b = brightness(pixel(image, 256, x, dy));
+    ramp += b > dark + 3 && b < lit - 3;
+  }
+  // A texel of the map: 2.04 times the cloth's bounding radius (sqrt(0.5) m) over 8, as the
+  // light sees it; on the ground along x, sqrt(2) times that (the light comes at 45 degrees).
+  const double texel = 2.04 * std::sqrt(0.5) / 8 * std::sqrt(2.0);  // m
+  const double pixels_per_m = project(s, Vec3(1, 0, -0.5)).first - project(s, Vec3(0, 0, -0.5)).first;
+  EXPECT_GT(ramp, 0);
+  EXPECT_LE(ramp, 0.5 * texel * pixels_per_m + 2.0);
+}
+
 // Bright pixels in rows [top, bottom) and columns [left, right).
 int bright_pixels(const std::vector<uint8_t>& rgb, int width, int left, int top, int right,
                   int bottom) {
