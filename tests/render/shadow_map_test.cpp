@@ -59,5 +59,29 @@ TEST(render_shadow_map, HoldsCastersFillingTheirBoundingSphere) {
   expect_inside(map, corners);
 }
 
+// Clip-space depth of `p` (world) through `m`.
+float clip_depth(const glm::mat4& m, const Vec3& p) {
+  const glm::vec4 clip = m * glm::vec4(float(p.x()), float(p.y()), float(p.z()), 1.0f);
+  return clip.z / clip.w;
+}
+
+TEST(render_shadow_map, LookupBiasIsADistanceTowardsTheLight) {
+  OffscreenContext context(16, 16, 1);
+  const Box3 box(Vec3(-1, -1, 0), Vec3(1, 1, 0.5));
+  const std::vector<Vec3> points = {box.min(), box.max()};
+  const Vec3 direction(0.5, 1.5, -1.75);
+  const Vec3 p(0.3, -0.2, 0.0);
+  const double bias = 0.002;  // m
+  for (int size : {512, 896, 1024}) {
+    ShadowMap map(size);
+    map.begin(direction, box, points);
+    // The look-up sees p where the casters' matrix sees p moved `bias` towards the light.
+    EXPECT_NEAR(clip_depth(map.lookup_matrix(bias), p),
+                clip_depth(map.light_matrix(), p - bias * direction.normalized()), 1e-6)
+        << size;
+    EXPECT_EQ(clip_depth(map.lookup_matrix(0.0), p), clip_depth(map.light_matrix(), p));
+  }
+}
+
 }  // namespace
 }  // namespace tissu

@@ -92,11 +92,19 @@ void ShadowMap::begin(const Vec3& direction, const Box3& casters, const std::vec
       glm::ortho(edge(first_x), edge(first_x + width), edge(first_y), edge(first_y + height),
                  static_cast<float>(radius * 0.5), static_cast<float>(radius * 3.5));
   light_matrix_ = projection * view;
+  depth_range_ = 3.0 * radius;
 
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.get());
   glViewport(0, 0, width_, height_);
   glClearDepth(1.0);
   glClear(GL_DEPTH_BUFFER_BIT);
+}
+
+glm::mat4 ShadowMap::lookup_matrix(double bias) const {
+  // Clip-space depth runs from -1 at the near plane to 1 at the far plane.
+  glm::mat4 towards_light(1.0f);
+  towards_light[3][2] = static_cast<float>(-2.0 * bias / depth_range_);
+  return towards_light * light_matrix_;
 }
 
 }  // namespace tissu
