@@ -40,11 +40,19 @@ void collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionRespo
       const Vec3 relative = v - surface_velocity;
       const double vn = relative.dot(n);
       if (vn >= 0.0) continue;
-      Vec3 tangential = relative - vn * n;
+      const Vec3 sliding = relative - vn * n;
+      Vec3 tangential = sliding;
       if (response.friction) {
-        const double vt = tangential.norm();
+        const double vt = sliding.norm();
         const double slow = placed.obstacle->friction * (-vn);
-        tangential = (vt <= slow) ? Vec3::Zero() : Vec3(tangential * (1.0 - slow / vt));
+        tangential = (vt <= slow) ? Vec3::Zero() : Vec3(sliding * (1.0 - slow / vt));
+        if (response.position_weight > 0.0) {
+          // Along the surface, then back out of it where it curves (or another face is near).
+          x += response.position_weight * (tangential - sliding);
+          Vec3 m;
+          const double again = placed.obstacle->thickness - distance_if_near(placed, x, &m);
+          if (again > 0.0) x += again * m;
+        }
       }
       v = surface_velocity + tangential;
     }

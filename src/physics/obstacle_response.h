@@ -14,9 +14,15 @@ namespace tissu {
 struct CollisionResponse {
   double tolerance = 0.0;  // m: shortfalls up to this are left alone
   bool friction = true;    // Coulomb friction from the removed normal velocity
+  // s: the weight of the step's new velocity in its new position (x_{n+1} = x_n + h
+  // v_{n+1}: h for symplectic Euler and the paper's scheme). Friction that changes the
+  // tangential velocity by dv also moves the position by position_weight dv, as if the step
+  // had moved with the velocity friction leaves: a vertex that sticks stays where it was.
+  double position_weight = 0.0;
 };
 
-// After an explicit step: section 2.3 with the projection corrected (notes.md).
+// After an explicit step: section 2.3 with the projection corrected (notes.md); the
+// step's own response (explicit_response) also gives friction's change to the position.
 constexpr CollisionResponse kExplicitResponse{0.0, true};
 // After an implicit step, which kept its contacts on their tangent planes: only a vertex
 // its contact passes left inside is moved out (without friction, which the solve applies).
@@ -25,7 +31,8 @@ constexpr CollisionResponse kImplicitResponse{1e-9, false};
 // For one vertex at x (m) with velocity v (m/s): closer to an obstacle than its thickness,
 // it moves out to that distance along the normal at the closest surface point; the inward
 // normal velocity relative to the obstacle is removed and (with friction) Coulomb friction
-// slows the tangential velocity by mu * |removed normal part|. Overlapping obstacles:
+// slows the tangential velocity by mu * |removed normal part| (and moves x by
+// response.position_weight times that change). Overlapping obstacles:
 // repeated until it is clear of all (at most four passes).
 void collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
                     Vec3& x, Vec3& v);

@@ -85,6 +85,12 @@ std::optional<Divergence> energy_divergence(const Model& model, const State& sta
 
 }  // namespace
 
+CollisionResponse explicit_response(const Model& model) {
+  CollisionResponse response = kExplicitResponse;
+  if (model.integrator != Integrator::ExplicitEuler) response.position_weight = model.dt;
+  return response;
+}
+
 double energy_limit(const Model& model, const State& start) {
   return total_energy(model, start) + 10.0 * energy_scale(model, start);
 }
@@ -93,7 +99,7 @@ void resolve_collisions(const Model& model, double t, Vec3List& x, Vec3List& v) 
   std::vector<PlacedObstacle> placed;
   place_obstacles(model, t, placed);
   for (int i = 0; i < model.num_vertices(); ++i) {
-    if (!model.pinned[i]) collide_vertex(placed, kExplicitResponse, x[i], v[i]);
+    if (!model.pinned[i]) collide_vertex(placed, explicit_response(model), x[i], v[i]);
   }
 }
 
@@ -148,7 +154,8 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
       }
     }
     if (!scratch.placed.empty()) {
-      const CollisionResponse response = explicit_step ? kExplicitResponse : kImplicitResponse;
+      const CollisionResponse response =
+          explicit_step ? explicit_response(model) : kImplicitResponse;
       collide_block(scratch.placed, response, model.pinned, first, end, state.x, state.v);
     }
     if (fused_check) return;
@@ -173,7 +180,7 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
     // stage moved gets the obstacles' response again.
     for (int i = 0; i < n && !scratch.placed.empty(); ++i) {
       if (model.pinned[i] || state.x[i] == scratch.x_staged[i]) continue;
-      collide_vertex(scratch.placed, kExplicitResponse, state.x[i], state.v[i]);
+      collide_vertex(scratch.placed, explicit_response(model), state.x[i], state.v[i]);
     }
   }
 

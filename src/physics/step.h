@@ -11,6 +11,7 @@
 
 #include "core/types.h"
 #include "physics/model.h"
+#include "physics/obstacle_response.h"
 #include "physics/workspace.h"
 
 namespace tissu {
@@ -35,6 +36,12 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws);
 // step and every kExplicitEnergyCheck explicit steps.
 double energy_limit(const Model& model, const State& start);
 constexpr int kExplicitEnergyCheck = 64;
+
+// The obstacle response after an explicit step of the model's integrator: symplectic Euler
+// and the paper's scheme move each vertex with its new velocity (x_{n+1} = x_n + h
+// v_{n+1}), so friction's change of that velocity changes the position too
+// (CollisionResponse::position_weight = dt); explicit Euler moved it with the old one.
+CollisionResponse explicit_response(const Model& model);
 
 // Collision stage on its own (section 2.3): moves every free vertex closer to an obstacle
 // than its thickness at time t out to that distance and applies the velocity response.

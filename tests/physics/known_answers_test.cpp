@@ -341,9 +341,11 @@ TEST(KnownAnswers, DroppedSheetRestsAtTheThicknessAndNeverEntersIt) {
                     at_rest.most);
         EXPECT_GT(least, -1e-12) << c.name << " " << integrator;
         // The implicit midpoint rule's constraints hold the cloth 8e-9 to 1.7e-8 m off a
-        // sphere (its end positions follow (v + v')/2): allowed 1e-7 m.
+        // sphere (its end positions follow (v + v')/2): allowed 1e-7 m. The explicit
+        // response moves a sticking vertex back along a curved surface and out again: two
+        // projections' rounding, up to 1e-11 m measured; allowed 1e-10 m.
         const bool midpoint = std::string(integrator) == "implicit_midpoint";
-        EXPECT_LT(std::abs(at_rest.least), midpoint ? 1e-7 : 1e-12) << c.name << " " << integrator;
+        EXPECT_LT(std::abs(at_rest.least), midpoint ? 1e-7 : 1e-10) << c.name << " " << integrator;
         if (c.name == std::string("plane")) {
           EXPECT_LT(at_rest.most, 1e-12) << c.name << " " << integrator;
         }
@@ -405,13 +407,13 @@ TEST(KnownAnswers, InclineSlidesAtCoulombsAccelerationWithExplicitIntegrators) {
   }
 }
 
-// mu = 1.2 tan a: the sheet should not move at all. Its velocity does stop every step, but
-// the response moves a vertex back out along the normal only, so the step's tangential
-// displacement (h^2 g sin a, from the velocity before friction stopped it) stays: the sheet
-// creeps down at about h g sin a (symplectic Euler; half with the paper's scheme, which
-// halves gravity; explicit Euler half, meeting the plane every other step). Measured: 1.08 mm
-// in 0.2 s at h = 1 ms on a 30 degree incline. Checked: the creep is first order in h (it
-// halves with h, so a finer step holds the sheet), and no faster than 1.25 h g sin a.
+// mu = 1.2 tan a: the sheet must not move. Each step gravity's h^2 g sin a carries a
+// vertex along the incline before friction stops its velocity; the response takes that
+// back with the velocity (CollisionResponse::position_weight), so with symplectic Euler
+// and the paper's scheme the sheet stays put to rounding (measured: 2e-16 to 1e-15 m/s;
+// before, it crept at h g sin a: 1.08 mm in 0.2 s at h = 1 ms). Explicit Euler moves a
+// vertex with its old velocity, so the stop lands a step late: it still creeps, at half
+// h g sin a, first order in h (it halves with h).
 double creep(const std::string& integrator, double h, double degrees) {
   const double a = degrees * M_PI / 180.0;
   Simulation sim = sheet_on_incline(integrator, h, degrees, 1.2 * std::tan(a));
@@ -427,15 +429,20 @@ double creep(const std::string& integrator, double h, double degrees) {
   return drift / (200 * h);  // m/s
 }
 
-TEST(KnownAnswers, InclineWithFrictionAboveTanACreepsAtFirstOrderInTheStep) {
+TEST(KnownAnswers, InclineWithFrictionAboveTanAHoldsTheSheet) {
   const double degrees = 30.0, a = degrees * M_PI / 180.0;
   for (const char* integrator : kExplicit) {
     const double h = schedule_of(integrator).h;
     const double coarse = creep(integrator, h, degrees), fine = creep(integrator, h / 2, degrees);
     std::printf("  %-18s creeps at %.3e m/s (h = %g s), %.3e m/s (h / 2); h g sin a = %.3e m/s\n",
                 integrator, coarse, h, fine, h * kG * std::sin(a));
-    EXPECT_LT(coarse, 1.25 * h * kG * std::sin(a)) << integrator;
-    EXPECT_NEAR(fine / coarse, 0.5, 0.1) << integrator;
+    if (std::string(integrator) == "explicit_euler") {
+      EXPECT_LT(coarse, 0.6 * h * kG * std::sin(a)) << integrator;
+      EXPECT_NEAR(fine / coarse, 0.5, 0.1) << integrator;
+    } else {
+      EXPECT_LT(coarse, 1e-12) << integrator;  // m/s: no creep
+      EXPECT_LT(fine, 1e-12) << integrator;
+    }
   }
 }
 

@@ -67,7 +67,7 @@ void collide_blocks(const Model& model, double t, Vec3List& x, Vec3List& v) {
   for (const Obstacle& o : model.obstacles) placed.push_back(place_obstacle(o, t));
   for (int first = 0; first < model.num_vertices(); first += ForcePlan::kVerticesPerBlock) {
     const int end = std::min(model.num_vertices(), first + ForcePlan::kVerticesPerBlock);
-    collide_block(placed, kExplicitResponse, model.pinned, first, end, x, v);
+    collide_block(placed, explicit_response(model), model.pinned, first, end, x, v);
   }
 }
 
