@@ -165,11 +165,11 @@ TEST(KnownAnswers, AirDampingFollowsTheDiscreteExponentialToTerminalSpeed) {
 
 // With the implicit integrators' default Newton tolerance (1e-2 of gravity's impulse over
 // the step, scenes.md) a step whose starting residual, the force imbalance m (g - k v) h,
-// is below it is accepted as it starts: the speed stops short of rho_A g / c by up to 1 %
-// and stays there (measured: backward Euler 3.8852 m/s for 3.924 m/s, -0.99 %).
-// Checked: within the documented tolerance, and the same sheet solved to 1e-10 (above) is
-// exact, so the gap is the tolerance's.
-TEST(KnownAnswers, DefaultNewtonToleranceHoldsTerminalSpeedToOnePercent) {
+// is below the tolerance was accepted as it started: the speed stopped short of
+// rho_A g / c by up to 1 % and stayed there (backward Euler 3.8852 m/s for 3.924 m/s,
+// -0.99 %). A guess is now accepted without a solve only within the tolerance squared, so
+// the gap is at most 1e-4 of the speed (measured: -0.007 % to -0.010 %); allowed 2e-4.
+TEST(KnownAnswers, DefaultNewtonToleranceReachesTerminalSpeed) {
   const double c = 0.5, rho = 0.2, terminal = rho * kG / c;
   for (const char* integrator : {"backward_euler", "bdf2", "implicit_midpoint"}) {
     Simulation sim = simulation_of(
@@ -179,7 +179,7 @@ TEST(KnownAnswers, DefaultNewtonToleranceHoldsTerminalSpeedToOnePercent) {
     const double v = -sim.state.v[0].z();
     std::printf("  %-18s v(8 s) = %.6f m/s, terminal %.6f m/s (%+.3f %%)\n", integrator, v,
                 terminal, 100 * (v - terminal) / terminal);
-    EXPECT_NEAR(v, terminal, 1e-2 * terminal) << integrator;
+    EXPECT_NEAR(v, terminal, 2e-4 * terminal) << integrator;
   }
 }
 
