@@ -295,7 +295,24 @@ Vec3 unit_vector(JsonReader& r, const std::string& key) {
 Obstacle parse_obstacle(const Json& value, const std::string& path, Scene& scene) {
   JsonReader wrapper(value, path);
   const std::vector<std::string> kinds = {"sphere", "cylinder", "plane", "mesh"};
-  if (value.size() != 1) {
+  if (!value.is_object() || value.size() != 1) {
+    // Name what is wrong: a second obstacle, or a key (friction, thickness) written beside
+    // the obstacle instead of inside it.
+    std::vector<std::string> held, other;
+    if (value.is_object()) {
+      for (auto it = value.begin(); it != value.end(); ++it) {
+        (std::find(kinds.begin(), kinds.end(), it.key()) != kinds.end() ? held : other)
+            .push_back(it.key());
+      }
+    }
+    if (held.size() == 1 && !other.empty()) {
+      throw InputError(wrapper.path_of(other.front()) + ": belongs inside \"" + held.front() +
+                       "\", as {\"" + held.front() + "\": {..., \"" + other.front() + "\": ...}}");
+    }
+    if (held.size() > 1) {
+      throw InputError(path + ": holds both \"" + held[0] + "\" and \"" + held[1] +
+                       "\"; each element of \"obstacles\" is one obstacle");
+    }
     throw InputError(path + ": must hold exactly one of \"sphere\", \"cylinder\", \"plane\", "
                      "\"mesh\"");
   }

@@ -175,6 +175,26 @@ TEST(SceneValidation, ObstacleWithNonPositiveSize) {
             "obstacles[0].cube: unknown obstacle; expected sphere, cylinder, plane or mesh");
 }
 
+// A key written beside the obstacle instead of inside it is named, and so is a second
+// obstacle in one element.
+TEST(SceneValidation, ObstacleKeyOutsideItsObject) {
+  Json doc = valid();
+  doc["obstacles"] = Json::parse(R"([{"sphere": {"center": [0, 0, 0], "radius": 1},
+                                      "friction": 0.4}])");
+  EXPECT_EQ(parse_error(doc),
+            "obstacles[0].friction: belongs inside \"sphere\", as {\"sphere\": {..., "
+            "\"friction\": ...}}");
+  doc["obstacles"] = Json::parse(R"([{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]},
+                                      "sphere": {"center": [0, 0, 0], "radius": 1}}])");
+  EXPECT_EQ(parse_error(doc),
+            "obstacles[0]: holds both \"plane\" and \"sphere\"; each element of "
+            "\"obstacles\" is one obstacle");
+  doc["obstacles"] = Json::parse(R"([{}])");
+  EXPECT_EQ(parse_error(doc),
+            "obstacles[0]: must hold exactly one of \"sphere\", \"cylinder\", \"plane\", "
+            "\"mesh\"");
+}
+
 TEST(SceneValidation, NonFiniteValues) {
   Json doc = valid();
   doc["gravity"] = {0, 0, std::nan("")};  // from --set or a program; a file cannot hold NaN
