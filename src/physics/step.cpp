@@ -98,8 +98,9 @@ double energy_limit(const Model& model, const State& start) {
 void resolve_collisions(const Model& model, double t, Vec3List& x, Vec3List& v) {
   std::vector<PlacedObstacle> placed;
   place_obstacles(model, t, placed);
+  const CollisionResponse response = explicit_response(model);
   for (int i = 0; i < model.num_vertices(); ++i) {
-    if (!model.pinned[i]) collide_vertex(placed, explicit_response(model), x[i], v[i]);
+    if (!model.pinned[i]) collide_vertex(placed, response, x[i], v[i]);
   }
 }
 
@@ -178,9 +179,10 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
     // The stage's impulses between cloth and a mesh obstacle's edges, or between layers,
     // can push a vertex into an obstacle; obstacles are never crossed, so a vertex the
     // stage moved gets the obstacles' response again.
+    const CollisionResponse response = explicit_response(model);
     for (int i = 0; i < n && !scratch.placed.empty(); ++i) {
       if (model.pinned[i] || state.x[i] == scratch.x_staged[i]) continue;
-      collide_vertex(scratch.placed, explicit_response(model), state.x[i], state.v[i]);
+      collide_vertex(scratch.placed, response, state.x[i], state.v[i]);
     }
   }
 
