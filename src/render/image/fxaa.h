@@ -12,7 +12,7 @@
 namespace tissu {
 
 struct FxaaScratch {
-  std::vector<std::uint8_t> luma;  // per pixel, 0..255
+  std::vector<std::uint8_t> luma;  // per pixel, 0..255 (and padding for the scan)
   std::vector<std::uint8_t> edge;  // per pixel of a row: 1 on an edge
   FxaaEdges edges;  // the pixels on an edge, and their new colours
 };

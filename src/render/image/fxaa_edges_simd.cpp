@@ -97,10 +97,98 @@ HWY_INLINE void blend_lanes(const std::int32_t* base, int width, int height, con
   hn::StoreU(hn::BitCast(DU(), packed), DU(), out);
 }
 
+constexpr float kSpanMax = 8.0f;              // pixels
+constexpr float kReduceMul = 1.0f / 8.0f;
+constexpr float kReduceMin = 1.0f / 128.0f;
+constexpr float kByte = 1.0f / 255.0f;         // luma byte to 0..1
+
+// Row y's flags, 1 on an edge pixel: over the pixel and its four direct neighbours, the luma
+// spans at least max(edge_min, the brightest / 8). From x = 1 to the image's last pixel but
+// one; the flags after it, to a whole vector of floats past it, are 0.
+HWY_INLINE void flag_row(const std::uint8_t* row, const std::uint8_t* up, const std::uint8_t* down,
+                         int width, std::uint8_t edge_min, std::uint8_t* flags) {
+  const hn::ScalableTag<std::uint8_t> d8;
+  const int n = static_cast<int>(hn::Lanes(d8));
+  const auto floor = hn::Set(d8, edge_min), one = hn::Set(d8, std::uint8_t(1));
+  for (int x = 1; x < width - 1; x += n) {
+    const auto m = hn::LoadU(d8, row + x), w = hn::LoadU(d8, row + x - 1), e = hn::LoadU(d8, row + x + 1);
+    const auto u = hn::LoadU(d8, up + x), d = hn::LoadU(d8, down + x);
+    const auto hi = hn::Max(hn::Max(hn::Max(m, u), hn::Max(d, w)), e);
+    const auto lo = hn::Min(hn::Min(hn::Min(m, u), hn::Min(d, w)), e);
+    const auto threshold = hn::Max(floor, hn::ShiftRight<3>(hi));
+    // hi - lo >= threshold: the threshold less the span saturates to 0.
+    const auto edge = hn::Eq(hn::SaturatedSub(threshold, hn::Sub(hi, lo)), hn::Zero(d8));
+    hn::StoreU(hn::IfThenElseZero(edge, one), d8, flags + x);
+  }
+  std::fill_n(flags + width - 1, n + hn::Lanes(DF()), std::uint8_t(0));
+}
+
+// The flagged pixels of row y, a vector of pixels at a time: their span along the edge
+// (across the 2x2 blocks' luma gradient) and their 3x3 block's luma range.
+HWY_INLINE void spans_of_row(const std::uint8_t* row, const std::uint8_t* up, const std::uint8_t* down,
+                             int width, int y, const std::uint8_t* flags, FxaaEdges& e) {
+  const DF df;
+  const DI di;
+  const hn::Rebind<std::uint8_t, DI> d8;
+  const int n = static_cast<int>(hn::Lanes(df));
+  auto load = [&](const std::uint8_t* p) { return hn::PromoteTo(di, hn::LoadU(d8, p)); };
+  for (int x = 1; x < width - 1; x += n) {
+    const auto flagged = hn::Ne(load(flags + x), hn::Zero(di));
+    if (hn::AllFalse(di, flagged)) continue;
+    const VI ul = load(up + x - 1), u = load(up + x), ur = load(up + x + 1);
+    const VI w = load(row + x - 1), m = load(row + x), east = load(row + x + 1);
+    const VI dl = load(down + x - 1), d = load(down + x), dr = load(down + x + 1);
+    const VI lo = hn::Min(hn::Min(hn::Min(m, u), hn::Min(d, w)), east);
+    const VI hi = hn::Max(hn::Max(hn::Max(m, u), hn::Max(d, w)), east);
+    // The four 2x2 blocks around the pixel, as the shader's half-pixel bilinear taps.
+    const VF quarter_byte = hn::Set(df, 0.25f * kByte);
+    const VF nw = hn::Mul(quarter_byte, hn::ConvertTo(df, hn::Add(hn::Add(hn::Add(ul, u), w), m)));
+    const VF ne = hn::Mul(quarter_byte, hn::ConvertTo(df, hn::Add(hn::Add(hn::Add(u, ur), m), east)));
+    const VF sw = hn::Mul(quarter_byte, hn::ConvertTo(df, hn::Add(hn::Add(hn::Add(w, m), dl), d)));
+    const VF se = hn::Mul(quarter_byte, hn::ConvertTo(df, hn::Add(hn::Add(hn::Add(m, east), d), dr)));
+    const VF byte = hn::Set(df, kByte);
+    const VF block_lo = hn::Mul(byte, hn::ConvertTo(df, hn::Min(lo, hn::Min(hn::Min(ul, ur), hn::Min(dl, dr)))));
+    const VF block_hi = hn::Mul(byte, hn::ConvertTo(df, hn::Max(hi, hn::Max(hn::Max(ul, ur), hn::Max(dl, dr)))));
+    // Across the luma gradient (gx, gy) is the edge's direction (gy, -gx); y grows down.
+    const VF dx = hn::Sub(hn::Add(sw, se), hn::Add(nw, ne));
+    const VF dy = hn::Sub(hn::Add(nw, sw), hn::Add(ne, se));
+    const VF sum = hn::Add(hn::Add(hn::Add(nw, ne), sw), se);
+    const VF reduce = hn::Max(hn::Mul(hn::Mul(sum, hn::Set(df, 0.25f)), hn::Set(df, kReduceMul)),
+                              hn::Set(df, kReduceMin));
+    const VF scale = hn::Div(hn::Set(df, 1.0f), hn::Add(hn::Min(hn::Abs(dx), hn::Abs(dy)), reduce));
+    const VF low = hn::Set(df, -kSpanMax), high = hn::Set(df, kSpanMax);
+    const VF span_x = hn::Min(hn::Max(hn::Mul(dx, scale), low), high);
+    const VF span_y = hn::Min(hn::Max(hn::Mul(dy, scale), low), high);
+    e.reserve(static_cast<std::size_t>(n));
+    const auto fm = hn::RebindMask(df, flagged);
+    // Compress, then a whole-vector store (room was made): the compressing store itself is
+    // microcoded and many times slower on some processors (AMD Zen 4).
+    const std::size_t at = e.count;
+    hn::StoreU(hn::Compress(hn::Iota(di, x), flagged), di, &e.x[at]);
+    hn::StoreU(hn::Set(di, y), di, &e.y[at]);
+    hn::StoreU(hn::Compress(span_x, fm), df, &e.dx[at]);
+    hn::StoreU(hn::Compress(span_y, fm), df, &e.dy[at]);
+    hn::StoreU(hn::Compress(block_lo, fm), df, &e.luma_lo[at]);
+    hn::StoreU(hn::Compress(block_hi, fm), df, &e.luma_hi[at]);
+    e.count = at + hn::CountTrue(di, flagged);
+  }
+}
+
+void FindEdges(const std::uint8_t* luma, int width, int height, std::uint8_t edge_min,
+               std::vector<std::uint8_t>& row_flags, FxaaEdges& e) {
+  e.count = 0;
+  row_flags.resize(static_cast<std::size_t>(width) + 2 * HWY_MAX_BYTES);
+  for (int y = 1; y + 1 < height; ++y) {
+    const std::uint8_t* row = luma + std::size_t(y) * width;
+    flag_row(row, row - width, row + width, width, edge_min, row_flags.data());
+    spans_of_row(row, row - width, row + width, width, y, row_flags.data(), e);
+  }
+}
+
 void BlendEdges(const std::uint8_t* rgb, int width, int height, FxaaEdges& e) {
   const std::int32_t* base = reinterpret_cast<const std::int32_t*>(rgb);
   const std::size_t count = e.size(), lanes = hn::Lanes(DF());
-  e.blended.resize(count);
+  if (e.blended.size() < count) e.blended.resize(count);
   std::size_t i = 0;
   for (; i + lanes <= count; i += lanes) {
     blend_lanes(base, width, height, &e.x[i], &e.y[i], &e.dx[i], &e.dy[i], &e.luma_lo[i],
@@ -132,12 +220,35 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace tissu {
 
+HWY_EXPORT(FindEdges);
 HWY_EXPORT(BlendEdges);
 
-void FxaaEdges::clear() {
-  for (auto* v : {&x, &y}) v->clear();
-  for (auto* v : {&dx, &dy, &luma_lo, &luma_hi}) v->clear();
-  blended.clear();
+void FxaaEdges::reserve(std::size_t more) {
+  const std::size_t need = count + more;
+  if (x.size() >= need) return;
+  const std::size_t size = std::max({need, 2 * x.size(), std::size_t(4096)});
+  for (auto* v : {&x, &y}) v->resize(size);
+  for (auto* v : {&dx, &dy, &luma_lo, &luma_hi}) v->resize(size);
+}
+
+void FxaaEdges::push(std::int32_t px, std::int32_t py, float span_x, float span_y, float lo, float hi) {
+  reserve(1);
+  x[count] = px;
+  y[count] = py;
+  dx[count] = span_x;
+  dy[count] = span_y;
+  luma_lo[count] = lo;
+  luma_hi[count] = hi;
+  ++count;
+}
+
+// More than a row's scan reads past the image on any instruction set (a vector of bytes
+// and one more).
+std::size_t fxaa_luma_padding() { return 256; }
+
+void fxaa_find_edges(const std::uint8_t* luma, int width, int height, std::uint8_t edge_min,
+                     std::vector<std::uint8_t>& row_flags, FxaaEdges& edges) {
+  HWY_DYNAMIC_DISPATCH(FindEdges)(luma, width, height, edge_min, row_flags, edges);
 }
 
 void fxaa_blend_edges(const std::uint8_t* rgb, int width, int height, FxaaEdges& edges) {
