@@ -51,6 +51,10 @@ constexpr double kGroundFadeStart = 0.45;
 // The ground's grid: cells entirely inside the fade's start are drawn with the cheaper
 // opaque shader; the finer the grid, the closer they come to the fade.
 constexpr int kGroundDivisions = 16;
+// When those cells are cleared instead of drawn, the ground is a ring of quads around a
+// polygon of this many sides (and the corners' rays) inscribed in the opaque disc: between
+// it and the disc's edge lies a band 0.12% of its radius wide.
+constexpr int kGroundRingSides = 64;
 
 // Scene colours are display values; lighting is done in linear light, with gamma 2
 // (the shaders convert back with a square root).
@@ -454,8 +458,13 @@ void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_n
     footprint = shadow_footprint(caster_points, settings.lights[0].direction, h, 3.0 * texel / slant);
   }
   // Slightly inside the fade's start, so that rounding cannot put a faded pixel in an opaque cell.
-  const SplitGround split = split_ground(square, h, footprint, centre,
-                                         0.999 * kGroundFadeStart * half, kGroundDivisions);
+  const double opaque_radius = 0.999 * kGroundFadeStart * half;
+  std::optional<SplitGround> ring;
+  if (opaque_cleared) {
+    ring = split_ground_ring(square, h, footprint, centre, opaque_radius, kGroundRingSides);
+  }
+  const SplitGround split =
+      ring ? std::move(*ring) : split_ground(square, h, footprint, centre, opaque_radius, kGroundDivisions);
 
   const glm::mat4 model(1.0f);  // the meshes are in world coordinates
   const glm::mat4 placement = obstacle_model(ground_plane(*settings.ground),

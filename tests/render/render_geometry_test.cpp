@@ -136,6 +136,55 @@ TEST(render_geometry, GroundSplitsIntoShadowedAndOpaqueCellsCoveringTheSquare) {
   EXPECT_GT(shadowed_opaque + opaque, 0.6 * M_PI * radius * radius);
 }
 
+TEST(render_geometry, GroundRingCoversTheSquareLessAPolygonInsideTheDisc) {
+  // The fade's centre off the square's centre, so the corners' rays are not the even ones.
+  const GroundRect square{glm::dvec2(-4.0, -3.0), glm::dvec2(4.0, 5.0)};
+  const GroundRect footprint{glm::dvec2(-0.7, -0.2), glm::dvec2(0.6, 0.9)};
+  const glm::dvec2 centre(0.3, 1.2);
+  const double radius = 1.8;
+  const std::optional<SplitGround> split = split_ground_ring(square, -0.3, footprint, centre, radius, 16);
+  ASSERT_TRUE(split);
+  EXPECT_TRUE(split->opaque.indices.empty());
+  EXPECT_TRUE(split->shadowed_fading.indices.empty());
+  // The ring's vertices lie on the disc's edge or on the square's sides.
+  double polygon_area = 0.0;
+  std::vector<glm::dvec2> polygon;
+  for (size_t k = 0; k < split->fading.vertices.size(); ++k) {
+    const glm::vec3 p = split->fading.vertices[k].position;
+    if (k % 2 == 0) {
+      EXPECT_NEAR(std::hypot(p.x - centre.x, p.y - centre.y), radius, 1e-5);
+      polygon.emplace_back(p.x, p.y);
+    } else {
+      const bool on_side = std::abs(p.x - square.min.x) < 1e-5 || std::abs(p.x - square.max.x) < 1e-5 ||
+                           std::abs(p.y - square.min.y) < 1e-5 || std::abs(p.y - square.max.y) < 1e-5;
+      EXPECT_TRUE(on_side) << p.x << " " << p.y;
+    }
+  }
+  ASSERT_GE(polygon.size(), 20u);  // 16 even rays and the 4 corners'
+  for (size_t k = 0; k < polygon.size(); ++k) {
+    const glm::dvec2 a = polygon[k] - centre, b = polygon[(k + 1) % polygon.size()] - centre;
+    polygon_area += 0.5 * (a.x * b.y - a.y * b.x);
+  }
+  // Counter-clockwise triangles tiling the square less the polygon: no gap, no overlap.
+  const double ring = ground_part_area(split->fading, [](const glm::vec3&) {});
+  EXPECT_NEAR(ring + polygon_area, 64.0, 1e-4);
+  EXPECT_GT(polygon_area, 0.97 * M_PI * radius * radius);
+  EXPECT_NEAR(ground_part_area(split->shadowed_opaque, [&](const glm::vec3& p) {
+                EXPECT_LE(std::hypot(p.x - centre.x, p.y - centre.y), radius);
+              }),
+              1.3 * 1.1, 1e-5);
+  // No footprint: the ring alone.
+  const std::optional<SplitGround> plain = split_ground_ring(square, -0.3, std::nullopt, centre, radius, 16);
+  ASSERT_TRUE(plain);
+  EXPECT_TRUE(plain->shadowed_opaque.indices.empty());
+  // A footprint reaching past the polygon, or a disc reaching past the square: the grid's
+  // split is needed.
+  const GroundRect wide{glm::dvec2(-1.4, -0.2), glm::dvec2(0.6, 0.9)};
+  EXPECT_FALSE(split_ground_ring(square, -0.3, wide, centre, radius, 16));
+  EXPECT_FALSE(split_ground_ring(square, -0.3, footprint, centre, 4.0, 16));
+  EXPECT_FALSE(split_ground_ring(square, -0.3, footprint, centre, 0.0, 16));
+}
+
 TEST(render_geometry, ShadowFootprintOfPointsHoldsTheirShadowWithinTheBoxes) {
   // A sheet 0.75 m above the ground at z = -0.3 and a sphere of radius 0.25 m under it; the
   // light comes down at an angle, as the default key light does.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace tissu {
 
@@ -115,6 +116,75 @@ SplitGround split_ground(const GroundRect& square, double height,
       const uint32_t a = j * row + i, b = a + 1, c = a + row, d = c + 1;
       part.indices.insert(part.indices.end(), {a, b, d, a, d, c});
     }
+  }
+  return split;
+}
+
+std::optional<SplitGround> split_ground_ring(const GroundRect& square, double height,
+                                             const std::optional<GroundRect>& footprint,
+                                             const glm::dvec2& fade_centre, double opaque_radius,
+                                             int sides) {
+  const int n = std::max(sides, 8);
+  const glm::dvec2& c = fade_centre;
+  if (!(opaque_radius > 0.0) || c.x - opaque_radius <= square.min.x ||
+      c.x + opaque_radius >= square.max.x || c.y - opaque_radius <= square.min.y ||
+      c.y + opaque_radius >= square.max.y) {
+    return std::nullopt;
+  }
+  // Rays at n even angles and through the four corners, in angle order: consecutive rays
+  // meet the square on one side, so each quad is convex.
+  std::vector<double> angles;
+  for (int k = 0; k < n; ++k) angles.push_back(2.0 * M_PI * k / n);
+  const glm::dvec2 corners[4] = {square.min, glm::dvec2(square.max.x, square.min.y), square.max,
+                                 glm::dvec2(square.min.x, square.max.y)};
+  for (const glm::dvec2& corner : corners) {
+    const double a = std::atan2(corner.y - c.y, corner.x - c.x);
+    angles.push_back(a < 0.0 ? a + 2.0 * M_PI : a);
+  }
+  std::sort(angles.begin(), angles.end());
+  // The polygon holds the circle touching its sides; the widest gap between rays sets it.
+  double widest = 2.0 * M_PI - angles.back() + angles.front();
+  for (size_t k = 1; k < angles.size(); ++k) widest = std::max(widest, angles[k] - angles[k - 1]);
+  const double inner_radius = opaque_radius * std::cos(0.5 * widest);
+  if (footprint) {
+    for (const glm::dvec2& p : {footprint->min, footprint->max, glm::dvec2(footprint->min.x, footprint->max.y),
+                                glm::dvec2(footprint->max.x, footprint->min.y)}) {
+      if (glm::length(p - c) >= inner_radius) return std::nullopt;
+    }
+  }
+
+  const glm::vec3 normal(0, 0, 1);
+  const float z = static_cast<float>(height);
+  auto vertex = [&](const glm::dvec2& p) {
+    return MeshVertex{glm::vec3(static_cast<float>(p.x), static_cast<float>(p.y), z), normal, glm::vec2(0.0f)};
+  };
+  SplitGround split;
+  IndexedMesh& ring = split.fading;
+  const uint32_t m = static_cast<uint32_t>(angles.size());
+  for (uint32_t k = 0; k < m; ++k) {
+    const glm::dvec2 d(std::cos(angles[k]), std::sin(angles[k]));
+    // Where the ray leaves the square (exactly the corner for a corner's ray).
+    double t = std::numeric_limits<double>::infinity();
+    if (d.x != 0.0) t = std::min(t, ((d.x > 0.0 ? square.max.x : square.min.x) - c.x) / d.x);
+    if (d.y != 0.0) t = std::min(t, ((d.y > 0.0 ? square.max.y : square.min.y) - c.y) / d.y);
+    glm::dvec2 out = c + t * d;
+    for (const glm::dvec2& corner : corners) {
+      if (glm::length(out - corner) < 1e-9 * (square.max.x - square.min.x)) out = corner;
+    }
+    ring.vertices.push_back(vertex(c + opaque_radius * d));  // 2k: on the polygon
+    ring.vertices.push_back(vertex(out));                    // 2k + 1: on the square
+  }
+  for (uint32_t k = 0; k < m; ++k) {
+    const uint32_t p = 2 * k, q = p + 1, p_next = 2 * ((k + 1) % m), q_next = p_next + 1;
+    ring.indices.insert(ring.indices.end(), {p, q, q_next, p, q_next, p_next});
+  }
+  if (footprint) {
+    IndexedMesh& shadowed = split.shadowed_opaque;
+    for (const glm::dvec2& p : {footprint->min, glm::dvec2(footprint->max.x, footprint->min.y),
+                                footprint->max, glm::dvec2(footprint->min.x, footprint->max.y)}) {
+      shadowed.vertices.push_back(vertex(p));
+    }
+    shadowed.indices = {0, 1, 2, 0, 2, 3};
   }
   return split;
 }

@@ -47,6 +47,18 @@ SplitGround split_ground(const GroundRect& square, double height,
                          const std::optional<GroundRect>& footprint, const glm::dvec2& fade_centre,
                          double opaque_radius, int divisions);
 
+// The same parts when the opaque disc is not drawn (cleared to its colour beforehand):
+// the square less a polygon of at least `sides` sides inscribed in the disc, as a ring of
+// quads from the polygon out to the square along rays from `fade_centre` (through the
+// square's corners too), in `fading`; and the footprint as one rectangle in
+// `shadowed_opaque`. Far fewer pixels run the fading shader than with the grid's cells
+// along the disc's edge, for a few dozen triangles. Nothing (std::nullopt) when the
+// footprint does not lie inside the polygon, or the disc is not inside the square.
+std::optional<SplitGround> split_ground_ring(const GroundRect& square, double height,
+                                             const std::optional<GroundRect>& footprint,
+                                             const glm::dvec2& fade_centre, double opaque_radius,
+                                             int sides);
+
 // Triangles (normalized device x, y) covering the whole viewport except the inside of
 // the convex polygon `corners` (clip-space positions, before the perspective division),
 // whose outline is pulled in by `inset_pixels` so that the two overlap a little.
