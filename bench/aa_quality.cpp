@@ -13,9 +13,9 @@
 //
 //   tissu_aa_quality --shadow UNSHADOWED.png FINE.png CANDIDATE.png... [--levels N] [--crop ...]
 //
-// Shadow quality instead: FINE is the same frame drawn with a much finer shadow map
-// (tissu_render_bench --shadow-texels 4096 --png DIR), UNSHADOWED without the ground's
-// shadow. For each candidate (the frame with the map under test): the pixels more than N
+// Shadow quality instead: FINE is the same frame with a reference shadow (docs/rendering.md,
+// "The ground's shadow", used a 4096-texel shadow map drawn by an earlier build),
+// UNSHADOWED without the ground's shadow. For each candidate: the pixels more than N
 // levels of 255 (default 4) off FINE in some channel, and the PSNR against FINE over the
 // pixels the shadow touches (where FINE or the candidate differs from UNSHADOWED).
 #include <algorithm>

@@ -2,16 +2,13 @@
 // frame (wall and CPU time), and the frames produced per second end to end.
 //
 //   tissu_render_bench [SCENE.json] [--frames N] [--msaa 4,1,fxaa] [--set KEY=VALUE]... [--threads N]
-//                      [--replay] [--passes] [--out DIR] [--png DIR] [--shadow-texels N]
+//                      [--replay] [--passes] [--out DIR] [--png DIR]
 //
 // Default: the demo scene (scenes/demo.json), all its frames, MSAA 4 then 1 ("fxaa": one
 // sample and FXAA, render/image/fxaa.h). For each setting
 // the scene is simulated and rendered to an MP4 in DIR (default: a temporary directory)
 // exactly as `tissu render` does it (RenderSink: drawing and encoding overlap the
-// simulation), and the times are printed. --png DIR also writes every frame as a PNG;
-// --shadow-texels N draws the ground's shadow with a map of N texels across the casters
-// (a fine one, for example 4096, is the reference of the shadow-quality check,
-// tissu_aa_quality --shadow).
+// simulation), and the times are printed. --png DIR also writes every frame as a PNG.
 //   --replay  simulate the frames once first, then time rendering and encoding alone
 //             (feeding the stored states as fast as the renderer takes them).
 //   --passes  like --replay without video, timing each renderer pass (glFinish after
@@ -69,7 +66,6 @@ struct Options {
   std::string out_dir;
   std::string states_file;  // --replay: load the states from here, or save them here
   std::string png_dir;      // also write every frame as a PNG here
-  int shadow_texels = 0;    // shadow-map texels across the casters; 0 = the renderer's size
 };
 
 constexpr int kFxaa = -1;  // in the --msaa list: one sample, then FXAA
@@ -105,12 +101,11 @@ Options parse(int argc, char** argv) {
     else if (a == "--out") o.out_dir = value();
     else if (a == "--states") o.states_file = value();
     else if (a == "--png") o.png_dir = value();
-    else if (a == "--shadow-texels") o.shadow_texels = std::atoi(value().c_str());
     else if (a.rfind("--", 0) == 0 || a == "-h") {
       std::fprintf(stderr,
                    "usage: tissu_render_bench [SCENE.json] [--frames N] [--msaa 4,1,fxaa] "
                    "[--set KEY=VALUE]... [--replay] [--passes] [--serial] [--threads N] [--states FILE] "
-                   "[--png DIR] [--shadow-texels N] "
+                   "[--png DIR] "
                    "[--out DIR]\n");
       std::exit(a == "-h" || a == "--help" ? 0 : 2);
     } else {
@@ -241,7 +236,6 @@ int main(int argc, char** argv) {
   try {
     const Scene scene = load_scene(options.scene, options.overrides);
     RenderSettings settings = render_settings_of(scene);
-    if (settings.ground) settings.ground->shadow_map_texels = options.shadow_texels;
     const long long every = steps_per_frame(scene.dt, frames_per_simulated_second(settings));
     const long long scene_frames = scene.steps / every + 1;
     const long long frames =

@@ -8,7 +8,8 @@
 //                           background gradient (and into a plane obstacle lying in it)
 //   PLANE + GROUND + OPAQUE the ground where it does not fade (the renderer draws only the
 //                           cells well inside the fade's start with it): its lit colour
-//   ... + RECEIVE_SHADOW    the ground darkened by the key light's shadow map
+//   ... + CAST_SHADOW       the key light's shadow on the ground: the casters flattened onto
+//                           it (obstacle.vert), in its colour without that light
 #include "lighting.glsl"
 #ifdef GROUND
 #include "background.glsl"
@@ -28,20 +29,14 @@ flat in vec3 v_back_lit;
 uniform vec3 u_fade_center;   // world
 uniform float u_fade_radius;  // m
 
-#ifdef RECEIVE_SHADOW
-in vec4 v_light_clip;
-uniform sampler2DShadow u_shadow_map;
-
-// Fraction of the key light reaching this point: one bilinear depth comparison (hardware
-// percentage-closer filtering), its one-texel ramp steepened to half a texel. A
-// directional light casts hard shadows: the steeper ramp is closer to a much finer map's
-// edge (docs/rendering.md, "The shadow's edge") for two operations, no extra fetch.
-float key_visibility() {
-  vec3 p = v_light_clip.xyz / v_light_clip.w * 0.5 + 0.5;
-  return clamp(2.0 * texture(u_shadow_map, vec3(p.xy, min(p.z, 1.0))) - 0.5, 0.0, 1.0);
-}
+// The key light reaches the ground, except under its shadow. The shadow falls on the
+// ground's front, whichever way the flattened casters face.
+#ifdef CAST_SHADOW
+float key_visibility() { return 0.0; }
+#define FRONT true
 #else
 float key_visibility() { return 1.0; }
+#define FRONT gl_FrontFacing
 #endif
 
 #ifdef GROUND
@@ -54,12 +49,12 @@ uniform float u_under;
 #if defined(GROUND) && defined(OPAQUE)
 // Alpha is 1 here (r <= 0.45): nothing shows through, so no fade or background blend.
 void main() {
-  vec3 color = gl_FrontFacing ? mix(v_front_shaded, v_front_lit, key_visibility()) : v_back_lit;
+  vec3 color = FRONT ? mix(v_front_shaded, v_front_lit, key_visibility()) : v_back_lit;
   frag_color = vec4(to_display(color), 1.0);
 }
 #else
 void main() {
-  vec3 color = gl_FrontFacing ? mix(v_front_shaded, v_front_lit, key_visibility()) : v_back_lit;
+  vec3 color = FRONT ? mix(v_front_shaded, v_front_lit, key_visibility()) : v_back_lit;
   // Fades from r = 0.45 (the renderer's kGroundFadeStart) to 0.95.
   float r = length(v_position - u_fade_center) / u_fade_radius;
   float alpha = 1.0 - smoothstep(0.45, 0.95, r);

@@ -38,9 +38,6 @@ struct Ground {
   double height = 0.0;  // of the ground plane along RenderSettings::up (m): z with z up
   Vec3 color = Vec3(0.56, 0.56, 0.53);
   bool shadow = true;   // shadow of the cloth and obstacles from the first (key) light
-  // Shadow-map texels across the casters' bounding sphere; 0 = the renderer's own size.
-  // Not a scene key: the shadow-quality check draws a reference with a much finer map.
-  int shadow_map_texels = 0;
 };
 
 constexpr int kMaxLights = 4;

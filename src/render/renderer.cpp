@@ -8,7 +8,6 @@
 #include "render/draw/cloth_geometry.h"
 #include "render/draw/ground_geometry.h"
 #include "render/draw/obstacle_meshes.h"
-#include "render/draw/shadow_map.h"
 #include "render/draw/view_math.h"
 #include "render/gl/offscreen_context.h"
 #include "render/gl/pass_timer.h"
@@ -24,16 +23,6 @@ namespace tissu {
 
 namespace {
 
-// 832 texels across the casters' bounding sphere (the map keeps only those the casters
-// cover; its pass costs about its texels). The smallest size whose shadow, against a
-// 4096-texel map, stays within 1 dB (PSNR of the shadowed pixels, demo and fold scenes)
-// of 1024 texels with the bilinear look-up and slope-scaled offset used before, with
-// fewer pixels off: the steepened look-up and a bias in metres make up for the coarser
-// grid. 768 is 1.1 dB worse on the demo (docs/rendering.md, "The shadow's edge").
-constexpr int kShadowMapSize = 832;
-// Casters within this distance of the ground along the key light (cloth resting on it) do
-// not shadow it: no speckles where their depths tie.
-constexpr double kShadowBias = 0.002;  // m
 const Vec3 kObstacleColor(0.60, 0.64, 0.70);
 const Vec3 kPlaneColor(0.70, 0.70, 0.66);
 // A plane obstacle this close to the ground (same side up) is drawn as part of the ground.
@@ -41,7 +30,7 @@ constexpr double kGroundMergeDistance = 0.01;  // m
 // Spheres are drawn with kSphereSlices around (and half as many stacks), or with
 // kSmallSphereSlices when they look small enough that the flats along their outline stay
 // within kSphereOutlineError pixels of the true circle (fewer triangles: each costs on
-// llvmpipe). The shadow map always uses the finer sphere.
+// llvmpipe). The ground's shadow always uses the finer sphere.
 constexpr int kSphereSlices = 64;
 constexpr int kSmallSphereSlices = 48;
 constexpr double kSphereOutlineError = 0.35;  // pixels
@@ -51,6 +40,9 @@ constexpr double kGroundFadeStart = 0.45;
 // The ground's grid: cells entirely inside the fade's start are drawn with the cheaper
 // opaque shader; the finer the grid, the closer they come to the fade.
 constexpr int kGroundDivisions = 16;
+// The opaque disc's radius, over the ground's half size: slightly inside the fade's start,
+// so that rounding cannot put a faded pixel in an opaque cell.
+constexpr double kGroundOpaqueRadius = 0.999 * kGroundFadeStart;
 // When those cells are cleared instead of drawn, the ground is a ring of quads around a
 // polygon of this many sides (and the corners' rays) inscribed in the opaque disc: between
 // it and the disc's edge lies a band 0.12% of its radius wide.
@@ -79,6 +71,9 @@ ObstacleShape ground_plane(const Ground& ground) {
   return plane;
 }
 
+// The ground's shadow clips what is under the ground and what falls off its square.
+constexpr int kShadowClipPlanes = 5;
+
 // Shader variant defines for the lit programs.
 std::vector<std::string> lit_defines(const RenderSettings& s, std::vector<std::string> more = {}) {
   more.push_back("LIGHT_COUNT " + std::to_string(s.lights.size()));
@@ -91,11 +86,25 @@ std::vector<std::string> cloth_defines(const RenderSettings& s) {
   return lit_defines(s, d);
 }
 
+// The ground, or (CAST_SHADOW) the key light's shadow on it; OPAQUE where it does not fade.
 std::vector<std::string> ground_defines(const RenderSettings& s, bool shadow, bool opaque) {
   std::vector<std::string> d = {"PLANE", "GROUND"};
-  if (shadow) d.push_back("RECEIVE_SHADOW");
+  if (shadow) d.push_back("CAST_SHADOW");
   if (opaque) d.push_back("OPAQUE");
   return lit_defines(s, d);
+}
+
+// Along `direction` (downwards) onto the plane z = height: the shadow of a point there.
+glm::mat4 flatten_onto_ground(const Vec3& direction, double height) {
+  const Vec3 d = direction.normalized();
+  glm::mat4 m(1.0f);  // glm: m[column][row]
+  m[2][0] = static_cast<float>(-d.x() / d.z());
+  m[2][1] = static_cast<float>(-d.y() / d.z());
+  m[2][2] = 0.0f;
+  m[3][0] = static_cast<float>(height * d.x() / d.z());
+  m[3][1] = static_cast<float>(height * d.y() / d.z());
+  m[3][2] = static_cast<float>(height);
+  return m;
 }
 
 }  // namespace
@@ -107,7 +116,6 @@ struct Renderer::Impl {
         shader_dirs(shader_search_dirs(shader_dir)),
         background("background.vert", "background.frag", shader_dirs),
         cloth("cloth.vert", "cloth.frag", shader_dirs, cloth_defines(s)),
-        shadow("shadow.vert", "shadow.frag", shader_dirs),
         solid("obstacle.vert", "obstacle.frag", shader_dirs, lit_defines(s)),
         plane("obstacle.vert", "obstacle.frag", shader_dirs, lit_defines(s, {"PLANE"})),
         text(s.width, s.height),
@@ -130,10 +138,8 @@ struct Renderer::Impl {
       ground = ground_program(false, false);
       ground_opaque = ground_program(false, true);
       if (settings.ground->shadow) {
-        shadow_map = std::make_unique<ShadowMap>(
-            settings.ground->shadow_map_texels > 0 ? settings.ground->shadow_map_texels : kShadowMapSize);
-        ground_shadowed = ground_program(true, false);
-        ground_shadowed_opaque = ground_program(true, true);
+        ground_shadow = ground_program(true, false);
+        ground_shadow_opaque = ground_program(true, true);
       }
     }
     if (settings.camera.fixed()) {
@@ -147,12 +153,14 @@ struct Renderer::Impl {
   void set_lights(const ShaderProgram& program) const;
   void upload_cloth(const FrameContent& content);
   void draw_cloth_geometry() const;
-  void draw_shadow_map(const FrameContent& content, const Box3& casters);
   void gather_caster_points(const FrameContent& content);
   void draw_background(bool ground_drawn);
   void set_plane_uniforms(const ShaderProgram& program, const glm::mat4& model, const Vec3& color);
   void draw_plane(const ObstacleShape& shape, const Vec3& color);
   void draw_ground(const ObstacleShape* merged_plane, bool depth_needed_later, bool opaque_cleared);
+  void draw_ground_shadow(const FrameContent& content, const ObstacleShape* merged_plane);
+  GroundRect ground_square() const;
+  void set_ground_uniforms(const ShaderProgram& program, const ObstacleShape* merged_plane);
   glm::vec3 lit_ground_color() const;
   void draw_solids(const FrameContent& content);
   void draw_cloth();
@@ -172,26 +180,23 @@ struct Renderer::Impl {
   RenderSettings settings;
   OffscreenContext context;  // first: everything below lives in this context
   std::vector<std::string> shader_dirs;
-  ShaderProgram background, cloth, shadow;
+  ShaderProgram background, cloth;
   ShaderProgram solid;  // spheres and cylinders
   ShaderProgram plane;  // plane obstacles (blended at their fading edge)
-  // The ground without and with the key light's shadow, where it fades and where it does not.
+  // The ground, and the key light's shadow on it, where it fades and where it does not.
   std::unique_ptr<ShaderProgram> ground, ground_opaque;
-  std::unique_ptr<ShaderProgram> ground_shadowed, ground_shadowed_opaque;
+  std::unique_ptr<ShaderProgram> ground_shadow, ground_shadow_opaque;
   TextOverlay text;
   std::vector<std::string> overlay_lines;  // the last frame's corner text
   GlVertexArray background_vao;
   GlBuffer background_vertices;
   MeshBuffer cloth_corners_mesh, sphere, small_sphere, cylinder, square;
   MeshBuffer ground_fading, ground_opaque_mesh;  // parts of the ground (see SplitGround)
-  MeshBuffer ground_shadowed_fading, ground_shadowed_opaque_mesh;
-  Box3 casters;  // bounds of what casts the ground shadow this frame
   std::vector<Vec3> caster_points;  // their convex hull holds every caster this frame
   std::vector<glm::vec4> ground_outline;  // clip space, this frame
   ClothBuffer cloth_mesh;
   // Mesh obstacles' surfaces, uploaded once (the key keeps the surface alive).
   std::map<std::shared_ptr<const Vec3List>, std::unique_ptr<MeshBuffer>> surfaces;
-  std::unique_ptr<ShadowMap> shadow_map;
   std::optional<Camera> camera;
   // From the scene's coordinates to the renderer's (z up); `settings` are already turned.
   Mat3 to_render = Mat3::Identity();
@@ -206,7 +211,6 @@ struct Renderer::Impl {
   std::vector<uint32_t> indices;
   std::vector<glm::vec2> uv;
   glm::mat4 view_projection{1.0f};
-  bool shadows_drawn = false;
   bool has_frame = false;
   PassTimer timer;
 };
@@ -236,20 +240,13 @@ void Renderer::Impl::draw(const FrameContent& content) {
   view_projection = projection_matrix(*camera, aspect(), extent) * view_matrix(*camera);
 
   upload_cloth(content);
-  casters = bounds;
   gather_caster_points(content);
-
-  shadows_drawn = false;
-  if (shadow_map && !settings.lights.empty() && !bounds.isEmpty()) {
-    draw_shadow_map(content, bounds);
-    timer.lap("shadow map");
-  }
   const ObstacleShape* merged = plane_merged_into_ground(content);
   bool planes_later = false;  // plane obstacles drawn after the ground, depth-tested against it
   for (const ObstacleShape& o : content.obstacles) {
     if (o.kind == ObstacleShape::Kind::Plane && &o != merged) planes_later = true;
   }
-  // The ground's opaque unshadowed cells are one flat colour (seen from above): a clear to
+  // The ground's opaque cells are one flat colour (seen from above): a clear to
   // it fills them for a fraction of the cost of shading them, so they are not drawn. When
   // plane obstacles follow, those cells must write depth, and are drawn as before.
   const bool ground_cleared =
@@ -275,6 +272,10 @@ void Renderer::Impl::draw(const FrameContent& content) {
   timer.lap("spheres and cylinders");
   if (settings.ground) draw_ground(merged, planes_later, ground_cleared);
   timer.lap("ground");
+  if (ground_shadow && !settings.lights.empty() && !bounds.isEmpty()) {
+    draw_ground_shadow(content, merged);
+    timer.lap("ground shadow");
+  }
   draw_background(settings.ground.has_value());
   timer.lap("background");
   for (const ObstacleShape& o : content.obstacles) {
@@ -322,26 +323,6 @@ void Renderer::Impl::set_lights(const ShaderProgram& program) const {
   program.set("u_light_to", towards);
   program.set("u_light_radiance", radiance);
   program.set("u_eye", to_glm(camera->eye));
-}
-
-void Renderer::Impl::draw_shadow_map(const FrameContent& content, const Box3& casters) {
-  shadow_map->begin(settings.lights[0].direction, casters, caster_points);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  shadow.use();
-  shadow.set("u_light_matrix", shadow_map->light_matrix());
-  shadow.set("u_model", glm::mat4(1.0f));
-  draw_cloth_geometry();
-  // Spheres and cylinders are closed: their sides facing the light make the whole shadow.
-  glEnable(GL_CULL_FACE);
-  glCullFace(GL_BACK);
-  for (const ObstacleShape& o : content.obstacles) {
-    if (o.kind == ObstacleShape::Kind::Plane) continue;
-    shadow.set("u_model", obstacle_model(o, glm::vec3(0.0f), 0.0f));
-    buffer_of(o).draw();
-  }
-  glDisable(GL_CULL_FACE);
-  shadows_drawn = true;
 }
 
 // The cloth's vertices and the corners of each finite obstacle's box: the ground's shadow
@@ -436,13 +417,30 @@ glm::vec3 Renderer::Impl::lit_ground_color() const {
   return glm::sqrt(glm::clamp(color, 0.0f, 1.0f));
 }
 
-void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_needed_later,
-                                 bool opaque_cleared) {
-  // The ground's square, centred below the camera target (as obstacle_model places planes).
-  const double h = settings.ground->height;
+GroundRect Renderer::Impl::ground_square() const {
+  // Centred below the camera target, as obstacle_model places planes.
   const double half = plane_half_size();
   const glm::dvec2 centre(camera->target.x(), camera->target.y());
-  const GroundRect square{centre - glm::dvec2(half), centre + glm::dvec2(half)};
+  return GroundRect{centre - glm::dvec2(half), centre + glm::dvec2(half)};
+}
+
+void Renderer::Impl::set_ground_uniforms(const ShaderProgram& program, const ObstacleShape* merged_plane) {
+  set_plane_uniforms(program, glm::mat4(1.0f), settings.ground->color);  // meshes in world coordinates
+  const glm::mat4 placement = obstacle_model(ground_plane(*settings.ground),
+                                             to_glm(camera->target), plane_half_size());
+  program.set("u_fade_center", glm::vec3(placement[3]));
+  program.set("u_top", to_glm(settings.background.top));
+  program.set("u_bottom", to_glm(settings.background.bottom));
+  program.set("u_height", static_cast<float>(settings.height));
+  program.set("u_under", merged_plane ? 1.0f : 0.0f);
+  program.set("u_under_albedo", linear(kPlaneColor));
+}
+
+void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_needed_later,
+                                 bool opaque_cleared) {
+  const double h = settings.ground->height;
+  const GroundRect square = ground_square();
+  const glm::dvec2 centre = 0.5 * (square.min + square.max);
   ground_outline.clear();
   for (const glm::dvec2& corner : {square.min, glm::dvec2(square.max.x, square.min.y), square.max,
                                    glm::dvec2(square.min.x, square.max.y)}) {
@@ -450,59 +448,74 @@ void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_n
                                                          static_cast<float>(corner.y),
                                                          static_cast<float>(h), 1.0f));
   }
-  // The shadow look-up runs only where the key light's shadow can fall.
-  std::optional<GroundRect> footprint;
-  if (shadows_drawn && ground_shadowed) {
-    const double texel = shadow_map->texel_size();
-    const double slant = std::max(0.05, std::abs(settings.lights[0].direction.normalized().z()));
-    footprint = shadow_footprint(caster_points, settings.lights[0].direction, h, 3.0 * texel / slant);
-  }
-  // Slightly inside the fade's start, so that rounding cannot put a faded pixel in an opaque cell.
-  const double opaque_radius = 0.999 * kGroundFadeStart * half;
-  std::optional<SplitGround> ring;
-  if (opaque_cleared) {
-    ring = split_ground_ring(square, h, footprint, centre, opaque_radius, kGroundRingSides);
-  }
-  const SplitGround split =
-      ring ? std::move(*ring) : split_ground(square, h, footprint, centre, opaque_radius, kGroundDivisions);
-
-  const glm::mat4 model(1.0f);  // the meshes are in world coordinates
-  const glm::mat4 placement = obstacle_model(ground_plane(*settings.ground),
-                                             to_glm(camera->target), plane_half_size());
-  auto draw_part = [&](const ShaderProgram& program, MeshBuffer& mesh, const IndexedMesh& part,
-                       bool shadowed) {
+  auto draw_part = [&](const ShaderProgram& program, MeshBuffer& mesh, const IndexedMesh& part) {
     if (part.indices.empty()) return;
-    set_plane_uniforms(program, model, settings.ground->color);
-    program.set("u_fade_center", glm::vec3(placement[3]));
-    program.set("u_top", to_glm(settings.background.top));
-    program.set("u_bottom", to_glm(settings.background.bottom));
-    program.set("u_height", static_cast<float>(settings.height));
-    program.set("u_under", merged_plane ? 1.0f : 0.0f);
-    program.set("u_under_albedo", linear(kPlaneColor));
-    if (shadowed) {
-      program.set("u_shadow_map", 0);
-      program.set("u_light_matrix", shadow_map->lookup_matrix(kShadowBias));
-        glActiveTexture(GL_TEXTURE0);
-      glBindTexture(GL_TEXTURE_2D, shadow_map->texture());
-    }
+    set_ground_uniforms(program, merged_plane);
     mesh.upload(part);
     mesh.draw();
   };
   glEnable(GL_POLYGON_OFFSET_FILL);  // cloth resting on the ground stays in front
   glPolygonOffset(1.0f, 2.0f);
-  // The fading cells write depth: the background, drawn next, overlaps their outer edge and
-  // must stay behind them. The opaque cells need to write it only for plane obstacles drawn
+  // The fading part writes depth: the background, drawn next, overlaps its outer edge and
+  // must stay behind it. The opaque cells need to write it only for plane obstacles drawn
   // later (nothing else after this tests against it): writing depth costs on every sample.
-  draw_part(*ground, ground_fading, split.fading, false);
-  if (!depth_needed_later) glDepthMask(GL_FALSE);
-  if (!opaque_cleared) draw_part(*ground_opaque, ground_opaque_mesh, split.opaque, false);
-  if (footprint) {
-    draw_part(*ground_shadowed_opaque, ground_shadowed_opaque_mesh, split.shadowed_opaque, true);
-    glDepthMask(GL_TRUE);
-    draw_part(*ground_shadowed, ground_shadowed_fading, split.shadowed_fading, true);
+  // When the opaque disc was cleared to its colour, the fading part is a ring around it.
+  const double opaque_radius = kGroundOpaqueRadius * plane_half_size();
+  std::optional<IndexedMesh> ring;
+  if (opaque_cleared) ring = ground_ring(square, h, centre, opaque_radius, kGroundRingSides);
+  if (ring) {
+    draw_part(*ground, ground_fading, *ring);
+  } else {
+    const SplitGround split = split_ground(square, h, centre, opaque_radius, kGroundDivisions);
+    draw_part(*ground, ground_fading, split.fading);
+    if (!depth_needed_later) glDepthMask(GL_FALSE);
+    if (!opaque_cleared) draw_part(*ground_opaque, ground_opaque_mesh, split.opaque);
   }
   glDepthMask(GL_TRUE);
   glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+// The key light's shadow on the ground: the casters drawn flattened onto it along the light,
+// in the ground's colour without that light. Only what is above the ground casts, and only
+// onto its square (clip distances). It is exact, as sharp as the light is, and anti-aliased
+// with the rest of the frame; it costs the casters' triangles and the shadow's pixels.
+void Renderer::Impl::draw_ground_shadow(const FrameContent& content, const ObstacleShape* merged_plane) {
+  const Vec3& direction = settings.lights[0].direction;
+  const double h = settings.ground->height;
+  // A light from below or level casts nothing on the ground's top; from below the ground
+  // its top is not seen.
+  if (!(direction.normalized().z() < -1e-6) || camera->eye.z() <= h) return;
+  const GroundRect square = ground_square();
+  const glm::dvec2 centre = 0.5 * (square.min + square.max);
+  // Where the shadow cannot reach the fade, the flat shadowed colour is written.
+  const std::optional<GroundRect> footprint = shadow_footprint(caster_points, direction, h, 0.0);
+  const bool opaque = footprint && rect_within_disc(*footprint, centre, kGroundOpaqueRadius * plane_half_size());
+  const ShaderProgram& program = opaque ? *ground_shadow_opaque : *ground_shadow;
+  set_ground_uniforms(program, merged_plane);
+  program.set("u_shadow_projection", flatten_onto_ground(direction, h));
+  program.set("u_ground_height", static_cast<float>(h));
+  program.set("u_ground_square", glm::vec4(static_cast<float>(square.min.x), static_cast<float>(square.min.y),
+                                           static_cast<float>(square.max.x), static_cast<float>(square.max.y)));
+  for (int i = 0; i < kShadowClipPlanes; ++i) glEnable(GL_CLIP_DISTANCE0 + i);
+  // In front of the ground (drawn with offset 1, 2), behind cloth lying on it; overlapping
+  // casters write the same colour, so no depth is written.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(0.5f, 1.0f);
+  glDepthMask(GL_FALSE);
+  draw_cloth_geometry();
+  // Spheres and cylinders are closed: their sides facing the light make the whole shadow,
+  // and flattened they still face the camera above the ground.
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  for (const ObstacleShape& o : content.obstacles) {
+    if (o.kind == ObstacleShape::Kind::Plane) continue;
+    program.set("u_model", obstacle_model(o, glm::vec3(0.0f), 0.0f));
+    buffer_of(o).draw();
+  }
+  glDisable(GL_CULL_FACE);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  for (int i = 0; i < kShadowClipPlanes; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
 }
 
 void Renderer::Impl::draw_solids(const FrameContent& content) {

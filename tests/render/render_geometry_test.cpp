@@ -105,52 +105,33 @@ double ground_part_area(const IndexedMesh& part, CellCheck check) {
   return area;
 }
 
-TEST(render_geometry, GroundSplitsIntoShadowedAndOpaqueCellsCoveringTheSquare) {
+TEST(render_geometry, GroundSplitsIntoOpaqueAndFadingCellsCoveringTheSquare) {
   const GroundRect square{glm::dvec2(-4.0, -3.0), glm::dvec2(4.0, 5.0)};
-  const GroundRect footprint{glm::dvec2(-0.7, -0.2), glm::dvec2(0.6, 0.9)};
   const glm::dvec2 centre(0.0, 1.0);
   const double radius = 1.8;
-  const SplitGround split = split_ground(square, -0.3, footprint, centre, radius, 16);
-  auto in_footprint = [&](const glm::vec3& p) {
-    EXPECT_GE(p.x, -0.7f - 1e-6f);
-    EXPECT_LE(p.x, 0.6f + 1e-6f);
-    EXPECT_GE(p.y, -0.2f - 1e-6f);
-    EXPECT_LE(p.y, 0.9f + 1e-6f);
-  };
+  const SplitGround split = split_ground(square, -0.3, centre, radius, 16);
   auto in_disc = [&](const glm::vec3& p) {
     EXPECT_LE(std::hypot(p.x - centre.x, p.y - centre.y), radius + 1e-6);
   };
-  auto anywhere = [](const glm::vec3&) {};
-  const double shadowed_opaque = ground_part_area(split.shadowed_opaque, [&](const glm::vec3& p) {
-    in_footprint(p);
-    in_disc(p);
-  });
-  const double shadowed_fading = ground_part_area(split.shadowed_fading, in_footprint);
   const double opaque = ground_part_area(split.opaque, in_disc);
-  const double fading = ground_part_area(split.fading, anywhere);
-  EXPECT_NEAR(shadowed_opaque + shadowed_fading, 1.3 * 1.1, 1e-5);
-  EXPECT_NEAR(shadowed_opaque + shadowed_fading + opaque + fading, 64.0, 1e-4);
-  // The footprint lies well inside the disc; most of the disc (pi 1.8^2 = 10.2 m^2, less a
-  // ragged edge a cell (0.5 m) wide at most) is opaque.
-  EXPECT_NEAR(shadowed_opaque, 1.3 * 1.1, 1e-5);
-  EXPECT_GT(shadowed_opaque + opaque, 0.6 * M_PI * radius * radius);
+  const double fading = ground_part_area(split.fading, [](const glm::vec3&) {});
+  EXPECT_NEAR(opaque + fading, 64.0, 1e-4);
+  // The disc less a ragged edge at most a cell's diagonal (0.5 sqrt 2 m) wide is opaque.
+  EXPECT_GE(opaque, M_PI * std::pow(radius - 0.5 * std::sqrt(2.0), 2));
+  EXPECT_LE(opaque, M_PI * radius * radius);
 }
 
 TEST(render_geometry, GroundRingCoversTheSquareLessAPolygonInsideTheDisc) {
   // The fade's centre off the square's centre, so the corners' rays are not the even ones.
   const GroundRect square{glm::dvec2(-4.0, -3.0), glm::dvec2(4.0, 5.0)};
-  const GroundRect footprint{glm::dvec2(-0.7, -0.2), glm::dvec2(0.6, 0.9)};
   const glm::dvec2 centre(0.3, 1.2);
   const double radius = 1.8;
-  const std::optional<SplitGround> split = split_ground_ring(square, -0.3, footprint, centre, radius, 16);
-  ASSERT_TRUE(split);
-  EXPECT_TRUE(split->opaque.indices.empty());
-  EXPECT_TRUE(split->shadowed_fading.indices.empty());
+  const std::optional<IndexedMesh> ring = ground_ring(square, -0.3, centre, radius, 16);
+  ASSERT_TRUE(ring);
   // The ring's vertices lie on the disc's edge or on the square's sides.
-  double polygon_area = 0.0;
   std::vector<glm::dvec2> polygon;
-  for (size_t k = 0; k < split->fading.vertices.size(); ++k) {
-    const glm::vec3 p = split->fading.vertices[k].position;
+  for (size_t k = 0; k < ring->vertices.size(); ++k) {
+    const glm::vec3 p = ring->vertices[k].position;
     if (k % 2 == 0) {
       EXPECT_NEAR(std::hypot(p.x - centre.x, p.y - centre.y), radius, 1e-5);
       polygon.emplace_back(p.x, p.y);
@@ -161,28 +142,26 @@ TEST(render_geometry, GroundRingCoversTheSquareLessAPolygonInsideTheDisc) {
     }
   }
   ASSERT_GE(polygon.size(), 20u);  // 16 even rays and the 4 corners'
+  double polygon_area = 0.0;
   for (size_t k = 0; k < polygon.size(); ++k) {
     const glm::dvec2 a = polygon[k] - centre, b = polygon[(k + 1) % polygon.size()] - centre;
     polygon_area += 0.5 * (a.x * b.y - a.y * b.x);
   }
   // Counter-clockwise triangles tiling the square less the polygon: no gap, no overlap.
-  const double ring = ground_part_area(split->fading, [](const glm::vec3&) {});
-  EXPECT_NEAR(ring + polygon_area, 64.0, 1e-4);
+  const double area = ground_part_area(*ring, [](const glm::vec3&) {});
+  EXPECT_NEAR(area + polygon_area, 64.0, 1e-4);
   EXPECT_GT(polygon_area, 0.97 * M_PI * radius * radius);
-  EXPECT_NEAR(ground_part_area(split->shadowed_opaque, [&](const glm::vec3& p) {
-                EXPECT_LE(std::hypot(p.x - centre.x, p.y - centre.y), radius);
-              }),
-              1.3 * 1.1, 1e-5);
-  // No footprint: the ring alone.
-  const std::optional<SplitGround> plain = split_ground_ring(square, -0.3, std::nullopt, centre, radius, 16);
-  ASSERT_TRUE(plain);
-  EXPECT_TRUE(plain->shadowed_opaque.indices.empty());
-  // A footprint reaching past the polygon, or a disc reaching past the square: the grid's
-  // split is needed.
-  const GroundRect wide{glm::dvec2(-1.4, -0.2), glm::dvec2(0.6, 0.9)};
-  EXPECT_FALSE(split_ground_ring(square, -0.3, wide, centre, radius, 16));
-  EXPECT_FALSE(split_ground_ring(square, -0.3, footprint, centre, 4.0, 16));
-  EXPECT_FALSE(split_ground_ring(square, -0.3, footprint, centre, 0.0, 16));
+  // A disc reaching past the square, or none: the grid's split is needed.
+  EXPECT_FALSE(ground_ring(square, -0.3, centre, 4.0, 16));
+  EXPECT_FALSE(ground_ring(square, -0.3, centre, 0.0, 16));
+}
+
+TEST(render_geometry, RectWithinDiscNeedsAllFourCorners) {
+  const GroundRect rect{glm::dvec2(-0.7, -0.2), glm::dvec2(0.6, 0.9)};
+  const glm::dvec2 centre(0.0, 0.3);
+  // The farthest corner, (-0.7, 0.9), is sqrt(0.85) = 0.922 m away.
+  EXPECT_TRUE(rect_within_disc(rect, centre, 0.923));
+  EXPECT_FALSE(rect_within_disc(rect, centre, 0.921));
 }
 
 TEST(render_geometry, ShadowFootprintOfPointsHoldsTheirShadowWithinTheBoxes) {
@@ -228,18 +207,11 @@ TEST(render_geometry, ShadowFootprintOfPointsHoldsTheirShadowWithinTheBoxes) {
   EXPECT_FALSE(shadow_footprint(points, Vec3(0, 0, 1), h, margin));
 }
 
-TEST(render_geometry, GroundWithoutFootprintOrDiscIsAllFading) {
+TEST(render_geometry, GroundWithoutDiscIsAllFading) {
   const GroundRect square{glm::dvec2(-1.0, -1.0), glm::dvec2(1.0, 1.0)};
-  const SplitGround split = split_ground(square, -0.3, std::nullopt, glm::dvec2(0.0), 0.0, 4);
+  const SplitGround split = split_ground(square, -0.3, glm::dvec2(0.0), 0.0, 4);
   EXPECT_TRUE(split.opaque.indices.empty());
-  EXPECT_TRUE(split.shadowed_opaque.indices.empty());
-  EXPECT_TRUE(split.shadowed_fading.indices.empty());
   EXPECT_NEAR(ground_part_area(split.fading, [](const glm::vec3&) {}), 4.0, 1e-6);
-  // A footprint outside the square leaves nothing to shadow either.
-  const GroundRect away{glm::dvec2(3.0, 3.0), glm::dvec2(4.0, 4.0)};
-  const SplitGround missed = split_ground(square, -0.3, away, glm::dvec2(0.0), 0.0, 4);
-  EXPECT_TRUE(missed.shadowed_fading.indices.empty());
-  EXPECT_NEAR(ground_part_area(missed.fading, [](const glm::vec3&) {}), 4.0, 1e-6);
 }
 
 TEST(render_geometry, ShaderLogNamesFileLineAndColumn) {

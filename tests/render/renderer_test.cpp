@@ -269,32 +269,29 @@ TEST(render_frame, GroundShowsTheClothsShadow) {
   EXPECT_EQ(brightness(pixel(shadowed, 128, ox, oy)), brightness(pixel(lit, 128, ox, oy)));
 }
 
-// The ground's look-up steepens the bilinear comparison's one-texel ramp to half a texel:
-// a directional light casts hard shadows (a much finer map's edge is sharp).
-TEST(render_frame, ShadowEdgeIsHalfATexelSoft) {
+// The shadow is the casters flattened onto the ground along the light: exact, and as sharp
+// as the frame's anti-aliasing (MSAA 4 here) makes any edge.
+TEST(render_frame, ShadowEdgeLiesWhereTheLightPutsIt) {
   RenderSettings s = top_view(256, 256, 4);
   s.lights = {Light{Vec3(1, 0, -1), Vec3::Ones(), 1.0}};  // shadow shifted along +x
   s.ground = Ground{};
   s.ground->height = -0.5;
-  s.ground->shadow_map_texels = 8;  // coarse, so that a texel spans many pixels
   const std::vector<uint8_t> image = render(s, test::flat_cloth(4, 1.0));
-  // The shadow falls on x in [0, 1] of the ground; its far edge is at x = 1 m.
+  // The cloth (x in [-0.5, 0.5], z = 0) casts onto x in [0, 1] of the ground.
   const auto [dx, dy] = project(s, Vec3(0.7, 0, -0.5));
   const auto [lx, ly] = project(s, Vec3(1.4, 0, -0.5));
   const int dark = brightness(pixel(image, 256, dx, dy));
   const int lit = brightness(pixel(image, 256, lx, ly));
   ASSERT_GT(lit, dark + 60);
-  int ramp = 0;
+  const double edge = project(s, Vec3(1.0, 0, -0.5)).first + 0.5;  // in pixels, from the left
   for (int x = dx; x <= lx; ++x) {
     const int b = brightness(pixel(image, 256, x, dy));
-    ramp += b > dark + 3 && b < lit - 3;
+    if (x + 0.5 < edge - 1.0) {
+      EXPECT_EQ(b, dark) << "column " << x;
+    } else if (x + 0.5 > edge + 1.0) {
+      EXPECT_EQ(b, lit) << "column " << x;
+    }
   }
-  // A texel of the map: 2.04 times the cloth's bounding radius (sqrt(0.5) m) over 8, as the
-  // light sees it; on the ground along x, sqrt(2) times that (the light comes at 45 degrees).
-  const double texel = 2.04 * std::sqrt(0.5) / 8 * std::sqrt(2.0);  // m
-  const double pixels_per_m = project(s, Vec3(1, 0, -0.5)).first - project(s, Vec3(0, 0, -0.5)).first;
-  EXPECT_GT(ramp, 0);
-  EXPECT_LE(ramp, 0.5 * texel * pixels_per_m + 2.0);
 }
 
 // Ground pixels in the columns of x in (0.5, 1) m (the ground beyond the cloth's edge, on
@@ -305,28 +302,44 @@ int shadowed_beyond_the_cloth(const RenderSettings& s, const std::vector<uint8_t
   const auto [fx, fy] = project(s, Vec3(1.0, 0, s.ground->height));
   const int lit = brightness(pixel(image, w, fx + 20, fy));
   int n = 0;
-  for (int y = ey - 20; y <= ey + 20; ++y) {
-    for (int x = ex + 1; x <= fx; ++x) n += brightness(pixel(image, w, x, y)) < lit - 60;
-  }
+  for (int x = ex + 1; x <= fx; ++x) n += brightness(pixel(image, w, x, ey)) < lit - 60;
   return n;
 }
 
-// Cloth 8 cm above the ground, the light at 45 degrees: a band of shadow 8 cm wide shows
-// beyond its edge. A coarse map keeps it (a bias that grew with the texel pushed the
-// cloth behind the ground and the band vanished: no pixel of it).
-TEST(render_frame, CoarseMapKeepsTheShadowOfClothNearTheGround) {
+// Cloth a little above the ground, the light at 45 degrees: beyond its edge shows a band of
+// shadow as wide as the cloth is high.
+TEST(render_frame, ShadowOfClothNearTheGroundIsABandAsWideAsItsHeight) {
   RenderSettings s = top_view(256, 256, 4);
   s.lights = {Light{Vec3(1, 0, -1), Vec3::Ones(), 1.0}};  // shadow shifted along +x
   s.ground = Ground{};
-  s.ground->height = -0.08;
   const FrameContent cloth = test::flat_cloth(4, 1.0);
-  s.ground->shadow_map_texels = 2048;
-  const int fine = shadowed_beyond_the_cloth(s, render(s, cloth));
-  s.ground->shadow_map_texels = 16;
-  const int coarse = shadowed_beyond_the_cloth(s, render(s, cloth));
-  EXPECT_GT(fine, 100);
-  EXPECT_GT(coarse, fine / 2);
-  EXPECT_LT(coarse, 2 * fine);
+  for (const double height : {0.08, 0.02}) {
+    s.ground->height = -height;
+    const double pixels_per_m =
+        project(s, Vec3(1, 0, -height)).first - project(s, Vec3(0, 0, -height)).first;
+    EXPECT_NEAR(shadowed_beyond_the_cloth(s, render(s, cloth)), height * pixels_per_m, 1.5) << height;
+  }
+}
+
+// Half a sphere under the ground casts nothing: flattened along the light, that half would
+// darken the ground on the side the light comes from.
+TEST(render_frame, WhatIsUnderTheGroundCastsNoShadow) {
+  RenderSettings s = top_view(256, 256, 4);
+  s.lights = {Light{Vec3(1, 0, -1), Vec3::Ones(), 1.0}};
+  s.ground = Ground{};
+  s.ground->height = 0.0;
+  FrameContent frame;
+  frame.obstacles.push_back(test::sphere(Vec3::Zero(), 0.5));
+  const std::vector<uint8_t> shadowed = render(s, frame);
+  s.ground->shadow = false;
+  const std::vector<uint8_t> lit = render(s, frame);
+  // Beside the sphere towards the light: the lower half's flattened outline would reach
+  // x = -0.71 m there.
+  const auto [ux, uy] = project(s, Vec3(-0.6, 0, 0));
+  EXPECT_EQ(brightness(pixel(shadowed, 256, ux, uy)), brightness(pixel(lit, 256, ux, uy)));
+  // Beside it away from the light, the upper half's shadow (out to x = 0.71 m).
+  const auto [sx, sy] = project(s, Vec3(0.6, 0, 0));
+  EXPECT_LT(brightness(pixel(shadowed, 256, sx, sy)), brightness(pixel(lit, 256, sx, sy)) - 60);
 }
 
 // Bright pixels in rows [top, bottom) and columns [left, right).

@@ -51,43 +51,16 @@ std::optional<GroundRect> shadow_footprint(const std::vector<Vec3>& points, cons
   return r;
 }
 
-SplitGround split_ground(const GroundRect& square, double height,
-                         const std::optional<GroundRect>& footprint, const glm::dvec2& fade_centre,
+SplitGround split_ground(const GroundRect& square, double height, const glm::dvec2& fade_centre,
                          double opaque_radius, int divisions) {
   const int n = std::max(divisions, 1);
-  // The lines of the grid along one axis: regular, plus the footprint's edges.
-  auto lines = [&](double lo, double hi, std::optional<double> cut_lo, std::optional<double> cut_hi) {
+  auto lines = [&](double lo, double hi) {
     std::vector<float> at;
-    for (int i = 0; i <= n; ++i) {
-      at.push_back(static_cast<float>(i == n ? hi : lo + (hi - lo) * i / n));
-    }
-    for (const std::optional<double>& cut : {cut_lo, cut_hi}) {
-      if (cut) at.push_back(static_cast<float>(std::clamp(*cut, lo, hi)));
-    }
-    std::sort(at.begin(), at.end());
-    at.erase(std::unique(at.begin(), at.end()), at.end());
+    for (int i = 0; i <= n; ++i) at.push_back(static_cast<float>(i == n ? hi : lo + (hi - lo) * i / n));
     return at;
   };
-  // The footprint clamped to the square, when some of it is inside.
-  std::optional<GroundRect> inner;
-  if (footprint) {
-    const glm::dvec2 lo = glm::clamp(footprint->min, square.min, square.max);
-    const glm::dvec2 hi = glm::clamp(footprint->max, square.min, square.max);
-    if (lo.x < hi.x && lo.y < hi.y) inner = GroundRect{lo, hi};
-  }
-  const std::vector<float> xs =
-      lines(square.min.x, square.max.x, inner ? std::optional<double>(inner->min.x) : std::nullopt,
-            inner ? std::optional<double>(inner->max.x) : std::nullopt);
-  const std::vector<float> ys =
-      lines(square.min.y, square.max.y, inner ? std::optional<double>(inner->min.y) : std::nullopt,
-            inner ? std::optional<double>(inner->max.y) : std::nullopt);
-  // After rounding to float, as the cells' corners are drawn.
-  std::optional<GroundRect> cut;
-  if (inner) {
-    cut = GroundRect{glm::dvec2(static_cast<float>(inner->min.x), static_cast<float>(inner->min.y)),
-                     glm::dvec2(static_cast<float>(inner->max.x), static_cast<float>(inner->max.y))};
-  }
-
+  const std::vector<float> xs = lines(square.min.x, square.max.x);
+  const std::vector<float> ys = lines(square.min.y, square.max.y);
   const glm::vec3 normal(0, 0, 1);
   const float z = static_cast<float>(height);
   std::vector<MeshVertex> grid;
@@ -95,9 +68,8 @@ SplitGround split_ground(const GroundRect& square, double height,
     for (float x : xs) grid.push_back({glm::vec3(x, y, z), normal, glm::vec2(0.0f)});
   }
   SplitGround split;
-  for (IndexedMesh* part : {&split.fading, &split.opaque, &split.shadowed_fading, &split.shadowed_opaque}) {
-    part->vertices = grid;
-  }
+  split.fading.vertices = grid;
+  split.opaque.vertices = grid;
   auto within_disc = [&](double x, double y) {
     const double dx = x - fade_centre.x, dy = y - fade_centre.y;
     return dx * dx + dy * dy <= opaque_radius * opaque_radius;
@@ -106,13 +78,10 @@ SplitGround split_ground(const GroundRect& square, double height,
   for (uint32_t j = 0; j + 1 < ys.size(); ++j) {
     for (uint32_t i = 0; i + 1 < xs.size(); ++i) {
       const double x0 = xs[i], x1 = xs[i + 1], y0 = ys[j], y1 = ys[j + 1];
-      const bool shadowed = cut && x0 >= cut->min.x && x1 <= cut->max.x && y0 >= cut->min.y &&
-                            y1 <= cut->max.y;
       // A cell is convex, and so is the disc: all four corners inside means all of it.
       const bool opaque = opaque_radius > 0.0 && within_disc(x0, y0) && within_disc(x1, y0) &&
                           within_disc(x0, y1) && within_disc(x1, y1);
-      IndexedMesh& part = shadowed ? (opaque ? split.shadowed_opaque : split.shadowed_fading)
-                                   : (opaque ? split.opaque : split.fading);
+      IndexedMesh& part = opaque ? split.opaque : split.fading;
       const uint32_t a = j * row + i, b = a + 1, c = a + row, d = c + 1;
       part.indices.insert(part.indices.end(), {a, b, d, a, d, c});
     }
@@ -120,10 +89,8 @@ SplitGround split_ground(const GroundRect& square, double height,
   return split;
 }
 
-std::optional<SplitGround> split_ground_ring(const GroundRect& square, double height,
-                                             const std::optional<GroundRect>& footprint,
-                                             const glm::dvec2& fade_centre, double opaque_radius,
-                                             int sides) {
+std::optional<IndexedMesh> ground_ring(const GroundRect& square, double height,
+                                       const glm::dvec2& fade_centre, double opaque_radius, int sides) {
   const int n = std::max(sides, 8);
   const glm::dvec2& c = fade_centre;
   if (!(opaque_radius > 0.0) || c.x - opaque_radius <= square.min.x ||
@@ -142,24 +109,13 @@ std::optional<SplitGround> split_ground_ring(const GroundRect& square, double he
     angles.push_back(a < 0.0 ? a + 2.0 * M_PI : a);
   }
   std::sort(angles.begin(), angles.end());
-  // The polygon holds the circle touching its sides; the widest gap between rays sets it.
-  double widest = 2.0 * M_PI - angles.back() + angles.front();
-  for (size_t k = 1; k < angles.size(); ++k) widest = std::max(widest, angles[k] - angles[k - 1]);
-  const double inner_radius = opaque_radius * std::cos(0.5 * widest);
-  if (footprint) {
-    for (const glm::dvec2& p : {footprint->min, footprint->max, glm::dvec2(footprint->min.x, footprint->max.y),
-                                glm::dvec2(footprint->max.x, footprint->min.y)}) {
-      if (glm::length(p - c) >= inner_radius) return std::nullopt;
-    }
-  }
 
   const glm::vec3 normal(0, 0, 1);
   const float z = static_cast<float>(height);
   auto vertex = [&](const glm::dvec2& p) {
     return MeshVertex{glm::vec3(static_cast<float>(p.x), static_cast<float>(p.y), z), normal, glm::vec2(0.0f)};
   };
-  SplitGround split;
-  IndexedMesh& ring = split.fading;
+  IndexedMesh ring;
   const uint32_t m = static_cast<uint32_t>(angles.size());
   for (uint32_t k = 0; k < m; ++k) {
     const glm::dvec2 d(std::cos(angles[k]), std::sin(angles[k]));
@@ -178,15 +134,15 @@ std::optional<SplitGround> split_ground_ring(const GroundRect& square, double he
     const uint32_t p = 2 * k, q = p + 1, p_next = 2 * ((k + 1) % m), q_next = p_next + 1;
     ring.indices.insert(ring.indices.end(), {p, q, q_next, p, q_next, p_next});
   }
-  if (footprint) {
-    IndexedMesh& shadowed = split.shadowed_opaque;
-    for (const glm::dvec2& p : {footprint->min, glm::dvec2(footprint->max.x, footprint->min.y),
-                                footprint->max, glm::dvec2(footprint->min.x, footprint->max.y)}) {
-      shadowed.vertices.push_back(vertex(p));
-    }
-    shadowed.indices = {0, 1, 2, 0, 2, 3};
+  return ring;
+}
+
+bool rect_within_disc(const GroundRect& rect, const glm::dvec2& centre, double radius) {
+  for (const glm::dvec2& p : {rect.min, rect.max, glm::dvec2(rect.min.x, rect.max.y),
+                              glm::dvec2(rect.max.x, rect.min.y)}) {
+    if (glm::length(p - centre) > radius) return false;
   }
-  return split;
+  return true;
 }
 
 std::vector<glm::vec2> outside_of_polygon(const std::vector<glm::vec4>& corners, int width,
