@@ -6,8 +6,8 @@
 //                           edge (alpha, blended over what is behind)
 //   PLANE + GROUND          the ground: as a plane, but opaque: it blends itself into the
 //                           background gradient (and into a plane obstacle lying in it)
-//   PLANE + GROUND + OPAQUE the ground where it does not fade (the renderer draws only the
-//                           cells well inside the fade's start with it): its lit colour
+//   PLANE + GROUND + OPAQUE where the ground does not fade (grid cells well inside the
+//                           fade's start, or a shadow that stays there): no fade or blend
 //   ... + CAST_SHADOW       the key light's shadow on the ground: the casters flattened onto
 //                           it (obstacle.vert), in its colour without that light
 #include "lighting.glsl"

@@ -154,6 +154,7 @@ struct Renderer::Impl {
   void upload_cloth(const FrameContent& content);
   void draw_cloth_geometry() const;
   void gather_caster_points(const FrameContent& content);
+  bool reaches_under_ground(double height) const;
   void draw_background(bool ground_drawn);
   void set_plane_uniforms(const ShaderProgram& program, const glm::mat4& model, const Vec3& color);
   void draw_plane(const ObstacleShape& shape, const Vec3& color);
@@ -248,9 +249,10 @@ void Renderer::Impl::draw(const FrameContent& content) {
   }
   // The ground's opaque cells are one flat colour (seen from above): a clear to
   // it fills them for a fraction of the cost of shading them, so they are not drawn. When
-  // plane obstacles follow, those cells must write depth, and are drawn as before.
-  const bool ground_cleared =
-      settings.ground && camera->eye.z() > settings.ground->height && !planes_later;
+  // plane obstacles follow, those cells must write depth, and are drawn as before; so they
+  // are when something reaches under the ground, which they must hide.
+  const bool ground_cleared = settings.ground && camera->eye.z() > settings.ground->height &&
+                              !planes_later && !reaches_under_ground(settings.ground->height);
   context.bind_draw_target();
   // Every other sample gets a colour below (the background fills what nothing covers).
   glClearDepth(1.0);
@@ -338,6 +340,16 @@ void Renderer::Impl::gather_caster_points(const FrameContent& content) {
     if (box.isEmpty()) continue;
     for (const Vec3& corner : box_corners(box)) caster_points.push_back(corner);
   }
+}
+
+// Whether a caster's points (the cloth's vertices, the obstacles' box corners) lie under
+// the ground by more than a rounding error: a sphere resting on it does not.
+bool Renderer::Impl::reaches_under_ground(double height) const {
+  constexpr double kTolerance = 1e-6;  // m
+  for (const Vec3& p : caster_points) {
+    if (p.z() < height - kTolerance) return true;
+  }
+  return false;
 }
 
 void Renderer::Impl::draw_background(bool ground_drawn) {
@@ -458,7 +470,8 @@ void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_n
   glPolygonOffset(1.0f, 2.0f);
   // The fading part writes depth: the background, drawn next, overlaps its outer edge and
   // must stay behind it. The opaque cells need to write it only for plane obstacles drawn
-  // later (nothing else after this tests against it): writing depth costs on every sample.
+  // later (the shadow, drawn next, needs only the depth of what is in front of the
+  // ground): writing depth costs on every sample.
   // When the opaque disc was cleared to its colour, the fading part is a ring around it.
   const double opaque_radius = kGroundOpaqueRadius * plane_half_size();
   std::optional<IndexedMesh> ring;

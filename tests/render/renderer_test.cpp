@@ -342,6 +342,54 @@ TEST(render_frame, WhatIsUnderTheGroundCastsNoShadow) {
   EXPECT_LT(brightness(pixel(shadowed, 256, sx, sy)), brightness(pixel(lit, 256, sx, sy)) - 60);
 }
 
+// Seen at an angle, a sphere half under the ground shows only its upper half: the ground
+// is drawn over the lower half (not left to the colour clear of its flat part).
+TEST(render_frame, GroundHidesWhatReachesUnderIt) {
+  RenderSettings s = test::plain_settings(256, 192);
+  s.camera.eye = Vec3(0, -3, 1.5);
+  s.camera.target = Vec3::Zero();
+  s.camera.fov_deg = 40;
+  s.ground = Ground{};
+  s.ground->height = 0.0;
+  s.ground->shadow = false;
+  FrameContent sunk;
+  sunk.obstacles.push_back(test::sphere(Vec3::Zero(), 0.5));
+  const std::vector<uint8_t> image = render(s, sunk);
+  const std::vector<uint8_t> bare = render(s, FrameContent{});
+  // The lower half's front, 30 degrees under the ground: hidden by the ground.
+  const auto [lx, ly] = project(s, Vec3(0, -0.5 * std::cos(M_PI / 6), -0.5 * std::sin(M_PI / 6)));
+  EXPECT_EQ(brightness(pixel(image, 256, lx, ly)), brightness(pixel(bare, 256, lx, ly)));
+  // The upper half's front shows.
+  const auto [ux, uy] = project(s, Vec3(0, -0.5 * std::cos(M_PI / 6), 0.5 * std::sin(M_PI / 6)));
+  EXPECT_NE(brightness(pixel(image, 256, ux, uy)), brightness(pixel(bare, 256, ux, uy)));
+}
+
+// The shadow is the same where the ground is drawn as a grid (a plane obstacle drawn after
+// it needs the ground's depth) and where its shadow reaches the fade (the fading shader).
+TEST(render_frame, ShadowIsTheSameOnEveryKindOfGround) {
+  RenderSettings s = top_view(128, 128, 4);
+  s.lights = {Light{Vec3(1, 0, -1), Vec3::Ones(), 1.0}};
+  s.ground = Ground{};
+  s.ground->height = -0.5;
+  const FrameContent cloth = test::flat_cloth(4, 1.0);
+  const std::vector<uint8_t> plain = render(s, cloth);
+  const auto [sx, sy] = project(s, Vec3(0.75, 0, -0.5));
+  const int shadow = brightness(pixel(plain, 128, sx, sy));
+  EXPECT_LT(shadow, brightness(pixel(plain, 128, 128 - sx, sy)) - 60);
+  FrameContent with_wall = cloth;  // a plane obstacle far to the side, edge-on to the camera
+  ObstacleShape wall;
+  wall.kind = ObstacleShape::Kind::Plane;
+  wall.center = Vec3(-6, 0, 0);
+  wall.axis = Vec3(1, 0, 0);
+  with_wall.obstacles.push_back(wall);
+  EXPECT_NEAR(brightness(pixel(render(s, with_wall), 128, sx, sy)), shadow, 3);
+  // A small sphere far out, whose shadow falls beyond the fade's start (7.2 m from the
+  // target: 0.45 of the ground's half size, 4 camera distances).
+  FrameContent with_far_caster = cloth;
+  with_far_caster.obstacles.push_back(test::sphere(Vec3(8, 0, 0), 0.1));
+  EXPECT_NEAR(brightness(pixel(render(s, with_far_caster), 128, sx, sy)), shadow, 3);
+}
+
 // Bright pixels in rows [top, bottom) and columns [left, right).
 int bright_pixels(const std::vector<uint8_t>& rgb, int width, int left, int top, int right,
                   int bottom) {
