@@ -13,7 +13,7 @@ namespace tissu {
 
 struct FxaaScratch {
   std::vector<std::uint8_t> luma;  // per pixel, 0..255 (and padding for the scan)
-  std::vector<std::uint8_t> edge;  // per pixel of a row: 1 on an edge
+  std::vector<std::uint8_t> edge;  // the scan's flags per pixel of a row (and padding)
   FxaaEdges edges;  // the pixels on an edge, and their new colours
 };
 

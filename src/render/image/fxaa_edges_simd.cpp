@@ -6,6 +6,7 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "render/image/fxaa_edges_simd.h"
 
@@ -159,7 +160,7 @@ HWY_INLINE void spans_of_row(const std::uint8_t* row, const std::uint8_t* up, co
     const VF low = hn::Set(df, -kSpanMax), high = hn::Set(df, kSpanMax);
     const VF span_x = hn::Min(hn::Max(hn::Mul(dx, scale), low), high);
     const VF span_y = hn::Min(hn::Max(hn::Mul(dy, scale), low), high);
-    e.reserve(static_cast<std::size_t>(n));
+    e.make_room(static_cast<std::size_t>(n));
     const auto fm = hn::RebindMask(df, flagged);
     // Compress, then a whole-vector store (room was made): the compressing store itself is
     // microcoded and many times slower on some processors (AMD Zen 4).
@@ -176,6 +177,10 @@ HWY_INLINE void spans_of_row(const std::uint8_t* row, const std::uint8_t* up, co
 
 void FindEdges(const std::uint8_t* luma, int width, int height, std::uint8_t edge_min,
                std::vector<std::uint8_t>& row_flags, FxaaEdges& e) {
+  // A row's scan reads a vector of bytes and one more past the image's last pixel.
+  if (hn::Lanes(hn::ScalableTag<std::uint8_t>()) + 1 > fxaa_luma_padding()) {
+    throw std::logic_error("fxaa_find_edges: vectors wider than the luma padding");
+  }
   e.count = 0;
   row_flags.resize(static_cast<std::size_t>(width) + 2 * HWY_MAX_BYTES);
   for (int y = 1; y + 1 < height; ++y) {
@@ -223,7 +228,7 @@ namespace tissu {
 HWY_EXPORT(FindEdges);
 HWY_EXPORT(BlendEdges);
 
-void FxaaEdges::reserve(std::size_t more) {
+void FxaaEdges::make_room(std::size_t more) {
   const std::size_t need = count + more;
   if (x.size() >= need) return;
   const std::size_t size = std::max({need, 2 * x.size(), std::size_t(4096)});
@@ -232,7 +237,7 @@ void FxaaEdges::reserve(std::size_t more) {
 }
 
 void FxaaEdges::push(std::int32_t px, std::int32_t py, float span_x, float span_y, float lo, float hi) {
-  reserve(1);
+  make_room(1);
   x[count] = px;
   y[count] = py;
   dx[count] = span_x;
@@ -242,8 +247,8 @@ void FxaaEdges::push(std::int32_t px, std::int32_t py, float span_x, float span_
   ++count;
 }
 
-// More than a row's scan reads past the image on any instruction set (a vector of bytes
-// and one more).
+// More than a row's scan reads past the image (a vector of bytes and one more) on x86 and
+// Arm; FindEdges checks it.
 std::size_t fxaa_luma_padding() { return 256; }
 
 void fxaa_find_edges(const std::uint8_t* luma, int width, int height, std::uint8_t edge_min,

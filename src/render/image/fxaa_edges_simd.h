@@ -1,7 +1,8 @@
 // FXAA's scan for edge pixels and its work on them (render/image/fxaa.h) in SIMD, several
 // pixels at once (Google Highway, the instruction set chosen at run time). The float steps
 // are those of the plain per-pixel loop, in its order and without fused multiply-adds, so
-// the edges found and the bytes written are the same on every instruction set.
+// the edges found and the bytes written are the same on every instruction set of x86 and
+// 64-bit Arm (where division is exact; 32-bit Arm NEON only estimates it).
 #pragma once
 
 #include <cstdint>
@@ -20,8 +21,9 @@ struct FxaaEdges {
 
   void clear() { count = 0; }
   std::size_t size() const { return count; }
-  // Makes room for `more` entries after the first `count` (the scan stores whole vectors).
-  void reserve(std::size_t more);
+  // Lengthens the arrays, if needed, to hold `more` entries after the first `count` (the
+  // scan stores whole vectors).
+  void make_room(std::size_t more);
   // Appends one pixel (tests and callers outside the scan).
   void push(std::int32_t px, std::int32_t py, float span_x, float span_y, float lo, float hi);
 };
