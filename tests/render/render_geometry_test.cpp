@@ -151,6 +151,14 @@ TEST(render_geometry, GroundRingCoversTheSquareLessAPolygonInsideTheDisc) {
   const double area = ground_part_area(*ring, [](const glm::vec3&) {});
   EXPECT_NEAR(area + polygon_area, 64.0, 1e-4);
   EXPECT_GT(polygon_area, 0.97 * M_PI * radius * radius);
+  // The renderer's case: the fade centred on the square, 64 sides; the corners' rays are
+  // even ones, taken once (no triangle without area).
+  const GroundRect centred{glm::dvec2(-4.0, -4.0), glm::dvec2(4.0, 4.0)};
+  const std::optional<IndexedMesh> even = ground_ring(centred, -0.3, glm::dvec2(0.0), radius, 64);
+  ASSERT_TRUE(even);
+  EXPECT_EQ(even->vertices.size(), 2u * 64u);
+  const double even_polygon = 0.5 * 64 * radius * radius * std::sin(2.0 * M_PI / 64);
+  EXPECT_NEAR(ground_part_area(*even, [](const glm::vec3&) {}) + even_polygon, 64.0, 1e-4);
   // A disc reaching past the square, or none: the grid's split is needed.
   EXPECT_FALSE(ground_ring(square, -0.3, centre, 4.0, 16));
   EXPECT_FALSE(ground_ring(square, -0.3, centre, 0.0, 16));

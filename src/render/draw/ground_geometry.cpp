@@ -109,6 +109,10 @@ std::optional<IndexedMesh> ground_ring(const GroundRect& square, double height,
     angles.push_back(a < 0.0 ? a + 2.0 * M_PI : a);
   }
   std::sort(angles.begin(), angles.end());
+  // A corner's ray that is also an even one (the centre in the square's middle) once only.
+  angles.erase(std::unique(angles.begin(), angles.end(),
+                           [](double a, double b) { return b - a < 1e-12; }),
+               angles.end());
 
   const glm::vec3 normal(0, 0, 1);
   const float z = static_cast<float>(height);
