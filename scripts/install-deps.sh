@@ -19,7 +19,8 @@ PACKAGES=(
   libosmesa6-dev         # off-screen OpenGL (Mesa llvmpipe)
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # MP4/H.264
   libstb-dev             # stb_truetype, stb_image_write
-  libpng-dev             # fast PNG writer
+  libpng-dev             # PNG reader
+  libisal-dev            # ISA-L igzip: fast deflate for the PNG writer
   fonts-dejavu-core      # caption font
   ffmpeg                 # ffprobe, used by tests to check videos decode
   clang libclang-rt-14-dev  # libFuzzer and sanitizers for scripts/fuzz.sh
