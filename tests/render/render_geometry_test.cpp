@@ -185,7 +185,7 @@ TEST(render_geometry, ShadowFootprintOfPointsHoldsTheirShadowWithinTheBoxes) {
   for (const Vec3& p : sheet) all.extend(p);
   const double h = -0.3, margin = 0.01;
   const std::optional<GroundRect> tight = shadow_footprint(points, light, h, margin);
-  const std::optional<GroundRect> loose = shadow_footprint(all, light, h, margin);
+  const std::optional<GroundRect> loose = shadow_footprint(box_corners(all), light, h, margin);
   ASSERT_TRUE(tight && loose);
   // Every point of the sheet and the sphere throws its shadow inside the tight rectangle.
   const Vec3 d = light.normalized();

@@ -28,12 +28,6 @@ std::vector<P> clip(const std::vector<P>& polygon, Side side) {
 
 }  // namespace
 
-std::optional<GroundRect> shadow_footprint(const Box3& casters, const Vec3& direction,
-                                           double height, double margin) {
-  if (casters.isEmpty()) return std::nullopt;
-  return shadow_footprint(box_corners(casters), direction, height, margin);
-}
-
 std::optional<GroundRect> shadow_footprint(const std::vector<Vec3>& points, const Vec3& direction,
                                            double height, double margin) {
   if (points.empty()) return std::nullopt;

@@ -20,13 +20,10 @@ struct GroundRect {
   glm::dvec2 min, max;
 };
 
-// Where on the horizontal plane z = height the shadow of anything inside `casters` can
-// fall for light travelling along `direction`, grown by `margin` (m). Empty when the light
-// does not come from above the plane.
-std::optional<GroundRect> shadow_footprint(const Box3& casters, const Vec3& direction,
-                                           double height, double margin);
-// The same for casters inside the convex hull of `points` (tighter than their box when
-// the casters do not fill it: a cloth's vertices, an obstacle's box corners).
+// Where on the horizontal plane z = height the shadow of anything inside the convex hull
+// of `points` (a cloth's vertices, an obstacle's box corners) can fall for light travelling
+// along `direction`, grown by `margin` (m). Empty when the light does not come from above
+// the plane.
 std::optional<GroundRect> shadow_footprint(const std::vector<Vec3>& points, const Vec3& direction,
                                            double height, double margin);
 
