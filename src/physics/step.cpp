@@ -136,6 +136,7 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   // no obstacle to move vertices afterwards) checks in one vectorised pass.
   const bool fused = explicit_step && !model.position_correction;
   const bool fused_check = fused && scratch.placed.empty();
+  const CollisionResponse response = explicit_step ? explicit_response(model) : kImplicitResponse;
   parallel_for(threads, forces.num_blocks(), [&](int block) {
     const int first = forces.block_begin(block), end = forces.block_end(block);
     if (fused) {
@@ -155,8 +156,6 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
       }
     }
     if (!scratch.placed.empty()) {
-      const CollisionResponse response =
-          explicit_step ? explicit_response(model) : kImplicitResponse;
       collide_block(scratch.placed, response, model.pinned, first, end, state.x, state.v);
     }
     if (fused_check) return;
@@ -178,8 +177,8 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
     run_collision_stage(model, state.t, h, scratch.x_start, state, ws);
     // The stage's impulses between cloth and a mesh obstacle's edges, or between layers,
     // can push a vertex into an obstacle; obstacles are never crossed, so a vertex the
-    // stage moved gets the obstacles' response again.
-    const CollisionResponse response = explicit_response(model);
+    // stage moved gets the obstacles' response again (the explicit one: this is an
+    // explicit step).
     for (int i = 0; i < n && !scratch.placed.empty(); ++i) {
       if (model.pinned[i] || state.x[i] == scratch.x_staged[i]) continue;
       collide_vertex(scratch.placed, response, state.x[i], state.v[i]);
