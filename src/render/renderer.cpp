@@ -161,6 +161,8 @@ struct Renderer::Impl {
   void draw_ground(const ObstacleShape* merged_plane, bool depth_needed_later, bool opaque_cleared);
   void draw_ground_shadow(const FrameContent& content, const ObstacleShape* merged_plane);
   GroundRect ground_square() const;
+  // Radius of the disc where the ground does not fade (m).
+  double ground_opaque_radius() const { return kGroundOpaqueRadius * plane_half_size(); }
   void set_ground_uniforms(const ShaderProgram& program, const ObstacleShape* merged_plane);
   glm::vec3 lit_ground_color() const;
   void draw_solids(const FrameContent& content);
@@ -473,7 +475,7 @@ void Renderer::Impl::draw_ground(const ObstacleShape* merged_plane, bool depth_n
   // later (the shadow, drawn next, needs only the depth of what is in front of the
   // ground): writing depth costs on every sample.
   // When the opaque disc was cleared to its colour, the fading part is a ring around it.
-  const double opaque_radius = kGroundOpaqueRadius * plane_half_size();
+  const double opaque_radius = ground_opaque_radius();
   std::optional<IndexedMesh> ring;
   if (opaque_cleared) ring = ground_ring(square, h, centre, opaque_radius, kGroundRingSides);
   if (ring) {
@@ -502,7 +504,7 @@ void Renderer::Impl::draw_ground_shadow(const FrameContent& content, const Obsta
   const glm::dvec2 centre = 0.5 * (square.min + square.max);
   // Where the shadow cannot reach the fade, the flat shadowed colour is written.
   const std::optional<GroundRect> footprint = shadow_footprint(caster_points, direction, h, 0.0);
-  const bool opaque = footprint && rect_within_disc(*footprint, centre, kGroundOpaqueRadius * plane_half_size());
+  const bool opaque = footprint && rect_within_disc(*footprint, centre, ground_opaque_radius());
   const ShaderProgram& program = opaque ? *ground_shadow_opaque : *ground_shadow;
   set_ground_uniforms(program, merged_plane);
   program.set("u_shadow_projection", flatten_onto_ground(direction, h));

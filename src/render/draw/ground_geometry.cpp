@@ -64,17 +64,12 @@ SplitGround split_ground(const GroundRect& square, double height, const glm::dve
   SplitGround split;
   split.fading.vertices = grid;
   split.opaque.vertices = grid;
-  auto within_disc = [&](double x, double y) {
-    const double dx = x - fade_centre.x, dy = y - fade_centre.y;
-    return dx * dx + dy * dy <= opaque_radius * opaque_radius;
-  };
   const uint32_t row = static_cast<uint32_t>(xs.size());
   for (uint32_t j = 0; j + 1 < ys.size(); ++j) {
     for (uint32_t i = 0; i + 1 < xs.size(); ++i) {
       const double x0 = xs[i], x1 = xs[i + 1], y0 = ys[j], y1 = ys[j + 1];
-      // A cell is convex, and so is the disc: all four corners inside means all of it.
-      const bool opaque = opaque_radius > 0.0 && within_disc(x0, y0) && within_disc(x1, y0) &&
-                          within_disc(x0, y1) && within_disc(x1, y1);
+      const bool opaque = opaque_radius > 0.0 &&
+                          rect_within_disc(GroundRect{{x0, y0}, {x1, y1}}, fade_centre, opaque_radius);
       IndexedMesh& part = opaque ? split.opaque : split.fading;
       const uint32_t a = j * row + i, b = a + 1, c = a + row, d = c + 1;
       part.indices.insert(part.indices.end(), {a, b, d, a, d, c});
@@ -136,9 +131,11 @@ std::optional<IndexedMesh> ground_ring(const GroundRect& square, double height,
 }
 
 bool rect_within_disc(const GroundRect& rect, const glm::dvec2& centre, double radius) {
+  // A rectangle is convex, and so is the disc: all four corners inside means all of it.
   for (const glm::dvec2& p : {rect.min, rect.max, glm::dvec2(rect.min.x, rect.max.y),
                               glm::dvec2(rect.max.x, rect.min.y)}) {
-    if (glm::length(p - centre) > radius) return false;
+    const glm::dvec2 d = p - centre;
+    if (d.x * d.x + d.y * d.y > radius * radius) return false;
   }
   return true;
 }
