@@ -109,13 +109,11 @@ std::vector<std::uint8_t> encode_png(const std::uint8_t* rgb, int width, int hei
 }
 
 void write_png(const std::string& path, const std::uint8_t* rgb, int width, int height) {
-  if (width <= 0 || height <= 0) {
-    throw std::invalid_argument(path + ": PNG size must be positive, got " + std::to_string(width) + "x" +
-                                std::to_string(height));
-  }
   std::vector<std::uint8_t> png;
   try {
     png = encode_png(rgb, width, height);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
   } catch (const std::runtime_error& e) {
     throw OutputError(path + ": cannot write PNG: " + e.what());
   }

@@ -68,6 +68,15 @@ TEST(Png, IncompressibleAndFlatFramesRoundTripThroughTwoDecoders) {
   EXPECT_LT(encode_png(flat.rgb.data(), 1280, 720).size(), flat.rgb.size() / 50);
 }
 
+TEST(Png, EmptySizeIsAnInvalidArgumentNamingTheFile) {
+  ScratchDir dir;
+  const std::string path = dir.file("empty.png");
+  const std::uint8_t pixel[3] = {0, 0, 0};
+  EXPECT_EQ(error_of<std::invalid_argument>([&] { write_png(path, pixel, 0, 240); }),
+            path + ": PNG size must be positive, got 0x240");
+  EXPECT_TRUE(dir.entries().empty());
+}
+
 TEST(Png, AnotherDecoderReadsTheSamePixelsTopRowFirst) {
   ScratchDir dir;
   Image image = test::noise_image(5, 3, 11);
