@@ -8,7 +8,6 @@
 //   ./build/bench/tissu_factor_bench [SCENE] [--repeats N]     (default scenes/demo.json, 30)
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
-#include <omp.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -21,6 +20,7 @@
 
 #include "physics/block_triplets.h"
 #include "physics/forces.h"
+#include "physics/serial_openmp.h"
 #include "scene/scene.h"
 
 using namespace tissu;
@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;
   }
-  omp_set_max_active_levels(0);  // CHOLMOD on this thread, as the solver runs it
+  const SerialOpenMpScope on_this_thread;  // CHOLMOD as the solver runs it
   const Sparse lower = step_matrix(sim.model, sim.state);
   std::printf("%s: %ld unknowns, %ld non-zeros in the lower triangle\n", path.c_str(),
               static_cast<long>(lower.rows()), static_cast<long>(lower.nonZeros()));

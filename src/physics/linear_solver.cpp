@@ -4,7 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <omp.h>
+
+#include "physics/serial_openmp.h"
 
 namespace tissu {
 
@@ -225,26 +226,6 @@ void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
   pattern_id_ = A.pattern_id();
 }
 
-namespace {
-
-// CHOLMOD's supernodal factorization opens OpenMP regions of a fixed four threads. On the
-// two cores Tissu is measured on they cost about 1.6 times the processor time of the same
-// factorization on one thread (5000 triangles: 24 against 15 ms), and they would take
-// cores from the simulation's own threads; with no active OpenMP level CHOLMOD runs on
-// the calling thread.
-class CholmodOnCallingThread {
- public:
-  CholmodOnCallingThread() : saved_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
-  ~CholmodOnCallingThread() { omp_set_max_active_levels(saved_); }
-  CholmodOnCallingThread(const CholmodOnCallingThread&) = delete;
-  CholmodOnCallingThread& operator=(const CholmodOnCallingThread&) = delete;
-
- private:
-  int saved_;
-};
-
-}  // namespace
-
 bool CholeskyPreconditioner::compute(const BlockSparseMatrix& A,
                                      const std::vector<DiagonalAddition>& additions) {
   if (pattern_id_ != A.pattern_id()) analyze(A);
@@ -261,7 +242,10 @@ bool CholeskyPreconditioner::compute(const BlockSparseMatrix& A,
     }
   }
   {
-    const CholmodOnCallingThread serial;
+    // CHOLMOD's regions open four threads, fixed when Debian built it: on two cores they
+    // cost 1.6 times the processor time of one thread and take cores from the
+    // simulation's own threads.
+    const SerialOpenMpScope on_this_thread;
     llt_.factorize(lower_);
   }
   valid_ = llt_.info() == Eigen::Success;

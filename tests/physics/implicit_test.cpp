@@ -18,6 +18,7 @@
 #include "physics/linear_solver.h"
 #include "physics/materials.h"
 #include "physics/membrane.h"
+#include "physics/serial_openmp.h"
 #include "physics/step.h"
 #include "scene/scene.h"
 #include "test_meshes.h"
@@ -352,6 +353,22 @@ TEST(LinearSolver, CholeskyPreconditionsMatricesWithDiagonalOnlyBlocks) {
   Eigen::VectorXd xj = Eigen::VectorXd::Zero(180);
   const CgResult rj = solve_pcg(A, J, b, 1e-10, 500, xj, work);
   EXPECT_LT(r.iterations, rj.iterations) << "fewer iterations than block Jacobi";
+}
+
+// CHOLMOD's factorization opens its OpenMP regions through Tissu's entry point, which runs
+// them on the calling thread (physics/serial_openmp.cpp): none reaches libgomp's teams.
+TEST(LinearSolver, CholeskyFactorizationRunsItsRegionsOnTheCallingThread) {
+  Eigen::MatrixXd D;
+  const BlockSparseMatrix A = random_spd_blocks(400, 6, &D);
+  const int64_t before = serial_openmp_regions();
+  CholeskyPreconditioner P;
+  ASSERT_TRUE(P.compute(A));
+  EXPECT_GT(serial_openmp_regions(), before);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(1200, -1.0, 1.0);
+  CgWorkspace work;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(1200);
+  EXPECT_TRUE(solve_pcg(A, P, b, 1e-10, 500, x, work).converged);
+  EXPECT_LE((b - D * x).norm(), 1.01e-10 * b.norm());
 }
 
 // Both linear solvers give the same implicit step to the CG tolerance, on a stiff sheet with
