@@ -57,11 +57,17 @@ double barrier_energy_of(const Model& model, const Vec3List& x, double t) {
     const PlacedObstacle placed = place_obstacle(ob, t);
     for (int i = 0; i < model.num_vertices(); ++i) {
       if (model.pinned[i]) continue;
-      const double d = obstacle_gap(placed, x[i]).d;
+      const double d = gap_distance(placed, x[i]);
       total += barrier_energy(d, dhat, barrier_stiffness(model.mass[i], dt));
     }
   }
   return total;
+}
+
+double gap_distance(const PlacedObstacle& obstacle, const Vec3& p) {
+  const Obstacle& ob = *obstacle.obstacle;
+  Vec3 normal;
+  return ob.signed_distance_from(p, obstacle.center, &normal, obstacle.rotation) - ob.thickness;
 }
 
 Gap obstacle_gap(const PlacedObstacle& obstacle, const Vec3& p) {
@@ -105,8 +111,8 @@ Gap obstacle_gap(const PlacedObstacle& obstacle, const Vec3& p) {
 BarrierTerm vertex_barrier(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
                            double dhat, bool psd) {
   BarrierTerm term;
+  if (gap_distance(obstacle, p) >= dhat) return term;
   const Gap g = obstacle_gap(obstacle, p);
-  if (g.d >= dhat) return term;
   term.energy = barrier_energy(g.d, dhat, kappa);
   if (g.d <= 0.0) return term;
   const double slope = barrier_derivative(g.d, dhat, kappa);  // N, negative
@@ -145,7 +151,7 @@ NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, doub
 
 double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u) {
   const Obstacle& ob = *obstacle.obstacle;
-  const double d0 = obstacle_gap(obstacle, p).d;
+  const double d0 = gap_distance(obstacle, p);
   if (d0 <= 0.0) return 0.0;
   switch (ob.kind) {
     case ObstacleKind::Plane: {
@@ -168,7 +174,7 @@ double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u)
       for (int k = 0; k < 100 && d > 1e-3 * d0; ++k) {
         t += d / speed;
         if (t >= 1.0) return 1.0;
-        d = obstacle_gap(obstacle, p + t * u).d;
+        d = gap_distance(obstacle, p + t * u);
       }
       return std::max(0.0, t);
     }
@@ -202,8 +208,9 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
     const PlacedObstacle& start = placed_start_.back();
     for (int i = 0; i < n; ++i) {
       if (model.pinned[i]) continue;
+      const double d = gap_distance(start, x_n[i]);
+      if (d <= 0.0 || d >= dhat_) continue;
       const Gap g = obstacle_gap(start, x_n[i]);
-      if (g.d <= 0.0 || g.d >= dhat_) continue;
       const double normal_impulse =
           -beta_ * barrier_derivative(g.d, dhat_, kappa_[i]);  // kg*m/s
       friction_.push_back({i, SlidingFriction{g.normal, g.surface_velocity,
@@ -231,15 +238,16 @@ void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
   for (int i = 0; i < model_->num_vertices(); ++i) {
     if (model_->pinned[i]) continue;
     for (size_t o = 0; o < placed_.size(); ++o) {
-      const Gap g = obstacle_gap(placed_[o], end_position(v, i));
-      if (g.d >= keep) continue;
+      const Vec3 x = end_position(v, i);
+      if (gap_distance(placed_[o], x) >= keep) continue;
+      const Gap g = obstacle_gap(placed_[o], x);
       if (!f) f = &forces();
       // The impulse the barrier must give over the step for the vertex to end moving with
       // the surface along the normal (kg*m/s), and the gap where it pushes that hard.
       const double press = model_->mass[i] * (g.surface_velocity - v_base[i]).dot(g.normal) -
                            beta_ * (*f)[i].dot(g.normal);
       const double balance = holding_gap(press / beta_, dhat_, kappa_[i]);
-      const double start = obstacle_gap(placed_start_[o], (*x_start_)[i]).d;
+      const double start = gap_distance(placed_start_[o], (*x_start_)[i]);
       const double target = std::min(keep, std::max(start, balance));
       if (g.d < target) v[i] += ((target - g.d) / beta_end_) * g.normal;
     }
@@ -270,7 +278,7 @@ double BarrierContact::potential(const Vec3List& v) const {
     if (model_->pinned[i]) continue;
     const Vec3 x = end_position(v, i);
     for (const PlacedObstacle& o : placed_) {
-      total += barrier_energy(obstacle_gap(o, x).d, dhat_, kappa_[i]);
+      total += barrier_energy(gap_distance(o, x), dhat_, kappa_[i]);
     }
   }
   total *= beta_ / beta_end_;
@@ -318,7 +326,7 @@ double BarrierContact::largest_step(const Vec3List& v, const Eigen::VectorXd& dv
     const Vec3 u = beta_end_ * Vec3(dv.segment<3>(3 * i));  // m per unit step length
     const double reach = u.norm();
     for (const PlacedObstacle& o : placed_) {
-      if (obstacle_gap(o, x).d > reach) continue;  // cannot touch within the step
+      if (gap_distance(o, x) > reach) continue;  // cannot touch within the step
       const double touch = first_touch(o, x, u);
       if (touch < 1.0) step = std::min(step, kBarrierStepFraction * touch);
     }
@@ -334,7 +342,7 @@ int BarrierContact::active(const Vec3List& v, double* smallest_gap) const {
       if (model_->pinned[i]) continue;
       bool near = false;
       for (const PlacedObstacle& o : placed_) {
-        const double d = obstacle_gap(o, end_position(v, i)).d;
+        const double d = gap_distance(o, end_position(v, i));
         smallest = std::min(smallest, d);
         near = near || d < dhat_;
       }

@@ -54,6 +54,8 @@ struct Gap {
   Vec3 surface_velocity = Vec3::Zero();  // m/s
 };
 Gap obstacle_gap(const PlacedObstacle& obstacle, const Vec3& p);
+// Its d alone, the same bits, for the many vertices far from every obstacle.
+double gap_distance(const PlacedObstacle& obstacle, const Vec3& p);
 
 // The barrier of one vertex at p against one obstacle: energy (J), gradient (N) and Hessian
 // (N/m), exact or (psd) with the curvature part left out.

@@ -100,6 +100,10 @@ TEST(Barrier, GradientAndHessianMatchFiniteDifferencesForEachObstacle) {
         p += (fraction * kDhat - g.d) * g.normal;
       }
       ASSERT_NEAR(obstacle_gap(placed, p).d, fraction * kDhat, 1e-12);
+      for (double out : {0.0, 0.5, 1.0, 3.0}) {  // dhat further out: the same bits
+        const Vec3 q = p + out * kDhat * obstacle_gap(placed, p).normal;
+        EXPECT_EQ(gap_distance(placed, q), obstacle_gap(placed, q).d);
+      }
       const BarrierTerm exact = vertex_barrier(placed, p, kappa, kDhat, false);
       const BarrierTerm psd = vertex_barrier(placed, p, kappa, kDhat, true);
       const double step = 1e-8;  // m
