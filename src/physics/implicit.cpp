@@ -156,7 +156,7 @@ void first_rhs(const Model& model, const State& state, ImplicitSolver& s, const 
     s.v_try[i] += shift;
   }
   compute_forces(model, state.x, s.v_try, eq.t_force, s.f_probe, plan, threads);
-  s.system.matrix().multiply(s.shift, s.shift_product);
+  s.system.matrix().multiply(s.shift, s.shift_product, threads);
   for (int i = 0; i < n; ++i) {
     if (model.pinned[i]) continue;
     const Vec3 damping = s.f_probe[i] - s.f_lin[i];  // df/dv s
@@ -402,6 +402,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   const int n = model.num_vertices();
   const ImplicitOptions& opt = model.implicit;
   const int threads = force_threads(ws.threads, model);
+  s.cg.threads = threads;
   ForcePlan& plan = scratch_of(ws).forces;
   ImplicitReport& report = s.report;
   {
@@ -498,7 +499,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     // The system matrix at the linearization point.
     t0 = std::clock();
     const Vec3List& x_lin = k == 0 ? state.x : s.x;
-    s.system.assemble(model, x_lin, s.v, eq.t_force, eq.beta, /*project_psd=*/true);
+    s.system.assemble(model, x_lin, s.v, eq.t_force, eq.beta, /*project_psd=*/true, threads);
     report.seconds_jacobian += processor_seconds_since(t0);
 
     // The direction. The first solve of a step starts from the previous step's velocity
@@ -530,7 +531,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     int contact_changes = 0;
     if (!s.contacts.empty()) {
       t0 = std::clock();
-      s.system.matrix().multiply(s.dv, s.reaction);
+      s.system.matrix().multiply(s.dv, s.reaction, threads);
       s.reaction -= s.rhs;
       s.contacts.update(s.reaction);
       report.seconds_contact += processor_seconds_since(t0);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iterator>
 
+#include "physics/parallel.h"
 #include "physics/serial_openmp.h"
 
 namespace tissu {
@@ -65,12 +66,21 @@ int BlockSparseMatrix::find_entry(int i, int j, int r, int c) const {
 
 void BlockSparseMatrix::set_zero() { std::fill(values_.begin(), values_.end(), 0.0); }
 
-void BlockSparseMatrix::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+void BlockSparseMatrix::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y,
+                                 int threads) const {
   y.resize(3 * static_cast<Eigen::Index>(num_vertices_));
+  const int rows = (num_vertices_ + kRowsPerItem - 1) / kRowsPerItem;
+  parallel_for(std::min(threads, rows), rows, [&](int item) {
+    multiply_rows(x, y, item * kRowsPerItem, std::min(num_vertices_, (item + 1) * kRowsPerItem));
+  });
+}
+
+void BlockSparseMatrix::multiply_rows(const Eigen::VectorXd& x, Eigen::VectorXd& y, int first,
+                                      int end) const {
   const double* px = x.data();
   const double* full = values_.data();
   const double* diagonal_only = values_.data() + 9 * col_.size();
-  for (int i = 0; i < num_vertices_; ++i) {
+  for (int i = first; i < end; ++i) {
     double y0 = 0.0, y1 = 0.0, y2 = 0.0;
     for (int b = row_start_[i]; b < row_start_[i + 1]; ++b) {
       const double* a = full + 9 * static_cast<size_t>(b);
@@ -286,7 +296,7 @@ CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Ei
     result.converged = true;
     return result;
   }
-  A.multiply(x, Ap);
+  A.multiply(x, Ap, work.threads);
   r = b - Ap;
   keep(r);
   double r_norm = norm(r);
@@ -301,7 +311,7 @@ CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Ei
   p = z;
   double rz = r.dot(z);
   while (result.iterations < max_iterations) {
-    A.multiply(p, Ap);
+    A.multiply(p, Ap, work.threads);
     keep(Ap);
     const double pAp = p.dot(Ap);
     if (!(pAp > 0.0)) {

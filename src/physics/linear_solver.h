@@ -65,12 +65,16 @@ class BlockSparseMatrix {
   const std::vector<double>& values() const { return values_; }
 
   // y = A x (3V vectors).
-  void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  // y = A x, its rows shared among at most `threads` threads (the same bits on any count).
+  void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y, int threads = 1) const;
 
   // Dense copy, for tests on small matrices.
   Eigen::MatrixXd to_dense() const;
 
  private:
+  static constexpr int kRowsPerItem = 256;  // vertex rows per item of a threaded product
+  void multiply_rows(const Eigen::VectorXd& x, Eigen::VectorXd& y, int first, int end) const;
+
   int num_vertices_ = 0;
   uint64_t pattern_id_ = 0;
   std::vector<int> row_start_;   // (V+1) first full block of each row
@@ -158,6 +162,7 @@ struct CgResult {
 // Scratch vectors of the conjugate-gradient loop (kept to avoid allocation per solve).
 struct CgWorkspace {
   Eigen::VectorXd r, z, p, Ap;
+  int threads = 1;  // for the matrix-vector products
 };
 
 // The directions a constrained solve keeps fixed: apply() zeroes them in a 3V vector (an

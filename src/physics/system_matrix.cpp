@@ -9,6 +9,7 @@
 #include "physics/bending.h"
 #include "physics/block_triplets.h"
 #include "physics/membrane.h"
+#include "physics/parallel.h"
 #include "physics/wind.h"
 
 namespace tissu {
@@ -16,6 +17,23 @@ namespace tissu {
 // Adds weighted Jacobian blocks into a value array of the matrix's pattern, scaled by -1
 // (A = M - beta df/dv - beta^2 df/dx: the sink's weights are -beta^2 and -beta with the
 // sign folded in by the caller). Blocks of pinned vertices are skipped.
+// Keeps each triangle's nine blocks, weighted as SlotSink weighs them, at 81 t of `out`.
+class TriangleBlockSink : public JacobianSink {
+ public:
+  TriangleBlockSink(double beta, double* out) : JacobianSink(-beta * beta, -beta), out_(out) {}
+
+  void add_triangle(int t, const Tri&, const Mat3* blocks) override {
+    double* target = out_ + 81 * static_cast<size_t>(t);
+    for (int k = 0; k < 9; ++k) std::copy_n(blocks[k].data(), 9, target + 9 * k);
+  }
+  void add(int, int, const Mat3&) override {
+    throw std::logic_error("triangle block sink: a term that is not per triangle");
+  }
+
+ private:
+  double* out_;
+};
+
 class SlotSink : public JacobianSink {
  public:
   SlotSink(const SystemMatrix& system, const Model& model, double beta, double* values)
@@ -100,6 +118,18 @@ void SystemMatrix::plan(const Model& model) {
       }
     }
   }
+  // Each block's sources in triangle order: a counting sort of the slots, stable in t.
+  slot_sources_start_.assign(A_.num_blocks() + 1, 0);
+  for (int slot : triangle_slots_) {
+    if (slot >= 0) slot_sources_start_[slot + 1] += 1;
+  }
+  for (int b = 0; b < A_.num_blocks(); ++b) slot_sources_start_[b + 1] += slot_sources_start_[b];
+  slot_sources_.resize(slot_sources_start_.back());
+  std::vector<int> filled(slot_sources_start_.begin(), slot_sources_start_.end() - 1);
+  for (size_t k = 0; k < triangle_slots_.size(); ++k) {
+    const int slot = triangle_slots_[k];
+    if (slot >= 0) slot_sources_[filled[slot]++] = 9 * static_cast<int64_t>(k);
+  }
   constant_beta_ = -1.0;
   planned_mesh_ = model.mesh_id;
   planned_pins_ = model.pinned;
@@ -121,7 +151,7 @@ void SystemMatrix::add_constant_terms(const Model& model, double beta,
 }
 
 void SystemMatrix::assemble(const Model& model, const Vec3List& x, const Vec3List& v, double t,
-                            double beta, bool project_psd) {
+                            double beta, bool project_psd, int threads) {
   plan(model);
   if (constant_beta_ != beta) {
     constant_values_.assign(A_.values().size(), 0.0);
@@ -132,11 +162,45 @@ void SystemMatrix::assemble(const Model& model, const Vec3List& x, const Vec3Lis
   std::copy(constant_values_.begin(), constant_values_.end(), values.begin());
   SlotSink sink(*this, model, beta, values.data());
   const int triangles = model.num_triangles();
-  add_membrane_jacobian(model, x, &v, project_psd, 0, triangles, sink);
+  if (threads > 1) {
+    add_membrane_blocks(model, x, v, beta, project_psd, threads);
+  } else {
+    add_membrane_jacobian(model, x, &v, project_psd, 0, triangles, sink);
+  }
   if (model.wind) {
     add_wind_jacobian(model, *model.wind, x, v, t, /*position_part=*/!project_psd, 0, triangles,
                       sink);
   }
+}
+
+void SystemMatrix::add_membrane_blocks(const Model& model, const Vec3List& x,
+                                      const Vec3List& v, double beta, bool project_psd,
+                                      int threads) {
+  constexpr int kTrianglesPerItem = 256, kRowsPerItem = 256;
+  const int triangles = model.num_triangles();
+  triangle_blocks_.resize(81 * static_cast<size_t>(triangles));
+  TriangleBlockSink blocks(beta, triangle_blocks_.data());
+  const int items = (triangles + kTrianglesPerItem - 1) / kTrianglesPerItem;
+  parallel_for(std::min(threads, items), items, [&](int item) {
+    const int first = item * kTrianglesPerItem;
+    add_membrane_jacobian(model, x, &v, project_psd, first,
+                          std::min(triangles, first + kTrianglesPerItem), blocks);
+  });
+  // Each block of A adds its sources in triangle order, as SlotSink would one triangle
+  // after the other.
+  double* values = A_.values().data();
+  const int n = model.num_vertices();
+  const int rows = (n + kRowsPerItem - 1) / kRowsPerItem;
+  parallel_for(std::min(threads, rows), rows, [&](int item) {
+    const int first = item * kRowsPerItem, end = std::min(n, first + kRowsPerItem);
+    for (int b = A_.row_begin(first); b < A_.row_end(end - 1); ++b) {
+      double* target = values + 9 * static_cast<size_t>(b);
+      for (int s = slot_sources_start_[b]; s < slot_sources_start_[b + 1]; ++s) {
+        const double* source = triangle_blocks_.data() + slot_sources_[s];
+        for (int e = 0; e < 9; ++e) target[e] += source[e];
+      }
+    }
+  });
 }
 
 void SystemMatrix::add_diagonal(int i, const Mat3& block) {

@@ -24,9 +24,11 @@ class SystemMatrix {
   void plan(const Model& model);
 
   // A at (x, v, t) for `beta` (s); with `project_psd` the solver's symmetric positive
-  // definite approximation of the Jacobian (add_force_jacobian).
+  // definite approximation of the Jacobian (add_force_jacobian). On several threads the
+  // triangles' blocks are computed in parallel, then each block of A adds them in triangle
+  // order: the same bits on any thread count.
   void assemble(const Model& model, const Vec3List& x, const Vec3List& v, double t, double beta,
-                bool project_psd);
+                bool project_psd, int threads = 1);
 
   // Adds `block` to the diagonal block of free vertex i of the assembled matrix.
   void add_diagonal(int i, const Mat3& block);
@@ -37,11 +39,20 @@ class SystemMatrix {
   friend class SlotSink;
   // Adds the model's constant terms (mass, bending, air damping) for beta into values.
   void add_constant_terms(const Model& model, double beta, std::vector<double>& values) const;
+  // Adds the membrane's blocks to A_, computed on `threads` threads.
+  void add_membrane_blocks(const Model& model, const Vec3List& x, const Vec3List& v,
+                           double beta, bool project_psd, int threads);
 
   BlockSparseMatrix A_;
   // Per triangle, its nine block slots (corner a row, corner b column at 3 a + b): the
   // index of the full block in A_, or -1 where a corner is pinned.
   std::vector<int> triangle_slots_;
+  // Per full block of A_, what the triangles add to it in triangle order: indices of their
+  // blocks in triangle_blocks_ (81 t + 9 k), block b's at
+  // [slot_sources_start_[b], slot_sources_start_[b + 1]).
+  std::vector<int> slot_sources_start_;
+  std::vector<int64_t> slot_sources_;
+  std::vector<double> triangle_blocks_;  // (81 T) the triangles' blocks of one assembly
   std::vector<double> constant_values_;  // the constant terms for constant_beta_
   double constant_beta_ = -1.0;
   uint64_t planned_mesh_ = 0;

@@ -13,6 +13,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <random>
 #include <thread>
 #include <vector>
 
@@ -24,6 +25,7 @@
 #include "physics/membrane.h"
 #include "physics/wind.h"
 #include "physics/step.h"
+#include "physics/system_matrix.h"
 #include "scene/scene.h"
 
 namespace tissu {
@@ -154,6 +156,43 @@ TEST(ParallelForces, SameBitsOnAnyThreadCountAndEqualToTheTermsSummed) {
   }
   EXPECT_GT(largest, 0.0);
   EXPECT_LT(worst, 1e-10 * largest);
+}
+
+// The implicit step's matrix (membrane blocks computed on several threads, then added to
+// each block in triangle order) and its products: the same bits as on one thread.
+TEST(ParallelAssembly, SystemMatrixAndProductSameBitsOnAnyThreadCount) {
+  Simulation sim = busy_scene("backward_euler", 1.0 / 60.0);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Vec3List x = sim.state.x, v = sim.state.v;
+  for (size_t i = 0; i < x.size(); ++i) {
+    x[i] += 0.004 * Vec3(u(rng), u(rng), u(rng));  // stretched and compressed triangles
+    v[i] = Vec3(u(rng), u(rng), u(rng));
+  }
+  Eigen::VectorXd p(3 * x.size());
+  for (Eigen::Index k = 0; k < p.size(); ++k) p[k] = u(rng);
+  std::vector<double> reference;
+  Eigen::VectorXd reference_product;
+  for (int threads : {1, 2, 3}) {
+    SystemMatrix system;
+    system.assemble(sim.model, x, v, 0.1, 1.0 / 60.0, /*project_psd=*/true, threads);
+    Eigen::VectorXd product;
+    system.matrix().multiply(p, product, threads);
+    if (threads == 1) {
+      reference = system.matrix().values();
+      reference_product = product;
+      continue;
+    }
+    const std::vector<double>& values = system.matrix().values();
+    ASSERT_EQ(values.size(), reference.size());
+    EXPECT_EQ(std::memcmp(values.data(), reference.data(), values.size() * sizeof(double)), 0)
+        << threads << " threads";
+    ASSERT_EQ(product.size(), reference_product.size());
+    EXPECT_EQ(std::memcmp(product.data(), reference_product.data(),
+                          product.size() * sizeof(double)),
+              0)
+        << threads << " threads";
+  }
 }
 
 // Whole runs: explicit steps (forces, integration, position correction, collisions with a
