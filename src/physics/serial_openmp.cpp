@@ -21,10 +21,14 @@ std::atomic<int64_t> serial_regions{0};
 
 using ParallelEntry = void (*)(void (*)(void*), void*, unsigned, unsigned);
 
-// libgomp's own GOMP_parallel (the version GCC 4.9 and later call).
+// The OpenMP runtime's own GOMP_parallel (the version GCC 4.9 and later call); null only
+// where no later object defines it (a static link).
 ParallelEntry libgomp_parallel() {
-  static const ParallelEntry entry =
-      reinterpret_cast<ParallelEntry>(dlvsym(RTLD_NEXT, "GOMP_parallel", "GOMP_4.0"));
+  static const ParallelEntry entry = [] {
+    void* found = dlvsym(RTLD_NEXT, "GOMP_parallel", "GOMP_4.0");
+    if (found == nullptr) found = dlsym(RTLD_NEXT, "GOMP_parallel");
+    return reinterpret_cast<ParallelEntry>(found);
+  }();
   return entry;
 }
 
@@ -47,12 +51,14 @@ int64_t serial_openmp_regions() { return serial_regions.load(std::memory_order_r
 }  // namespace tissu
 
 // A region run on one thread without a team is what OpenMP allows for any region (its
-// thread count is an upper bound): outside a team, libgomp treats the body's worksharing
-// loops, barriers and single constructs as the lone thread's.
+// thread count is an upper bound): outside any team, libgomp treats the body's
+// worksharing loops, barriers and single constructs as the lone thread's. Inside another
+// region's team the body would see that team (its thread count and number), so such a
+// region goes to the runtime, which gives it a team of one under the scope's level limit.
 extern "C" void GOMP_parallel(void (*body)(void*), void* data, unsigned num_threads,
                               unsigned flags) {
   const tissu::ParallelEntry next = tissu::libgomp_parallel();
-  if (tissu::serial_scopes > 0 || next == nullptr) {
+  if ((tissu::serial_scopes > 0 && omp_get_level() == 0) || next == nullptr) {
     tissu::serial_regions.fetch_add(1, std::memory_order_relaxed);
     body(data);
     return;

@@ -5,9 +5,12 @@
 
 namespace tissu {
 
-// While one is alive on a thread, the OpenMP regions opened on that thread run their body
-// there, once, as code outside any region runs it (omp_get_num_threads() is 1), without
-// the team of one that libgomp otherwise sets up and ends with a system call per region.
+// While one is alive on a thread outside any OpenMP region, the regions opened on that
+// thread run their body there, once, as code outside any region runs it
+// (omp_get_num_threads() is 1), without the team of one that libgomp otherwise sets up and
+// ends with a system call per region. Inside another region's team they get a team of
+// one from the runtime. (Where the runtime's own entry point cannot be found, a static
+// link, every region runs that way.)
 class SerialOpenMpScope {
  public:
   SerialOpenMpScope();

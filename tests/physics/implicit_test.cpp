@@ -356,7 +356,7 @@ TEST(LinearSolver, CholeskyPreconditionsMatricesWithDiagonalOnlyBlocks) {
 }
 
 // CHOLMOD's factorization opens its OpenMP regions through Tissu's entry point, which runs
-// them on the calling thread (physics/serial_openmp.cpp): none reaches libgomp's teams.
+// them on the calling thread (physics/serial_openmp.cpp).
 TEST(LinearSolver, CholeskyFactorizationRunsItsRegionsOnTheCallingThread) {
   Eigen::MatrixXd D;
   const BlockSparseMatrix A = random_spd_blocks(400, 6, &D);

@@ -66,5 +66,28 @@ TEST(SerialOpenMp, ScopesNestAndAreOneThreads) {
   EXPECT_EQ(other, 2) << "another thread's regions are its own";
 }
 
+// A scope opened inside another region's team: its regions must not see that team (they
+// would split their loops with threads that never run them), so each runs whole on a team
+// of one.
+TEST(SerialOpenMp, ScopeInsideATeamLeavesRegionsToTheRuntime) {
+  std::vector<int> visits(2 * 1000, 0);
+  std::atomic<int> wrong_team{0};
+  const int64_t before = serial_openmp_regions();
+#pragma omp parallel num_threads(2)
+  {
+    const int part = omp_get_thread_num();
+    const SerialOpenMpScope scope;
+#pragma omp parallel num_threads(4)
+    {
+      if (omp_get_num_threads() != 1) wrong_team += 1;
+#pragma omp for schedule(static)
+      for (int k = 0; k < 1000; ++k) visits[part * 1000 + k] += 1;
+    }
+  }
+  EXPECT_EQ(wrong_team.load(), 0);
+  for (int k = 0; k < 2000; ++k) ASSERT_EQ(visits[k], 1) << "iteration " << k;
+  EXPECT_EQ(serial_openmp_regions(), before) << "no inner region ran without a team";
+}
+
 }  // namespace
 }  // namespace tissu
