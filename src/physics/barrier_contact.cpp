@@ -141,9 +141,10 @@ double NormalDamping::potential(const Vec3& v) const {
 
 NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
                              double mass, double dhat, double zeta) {
+  const double d = gap_distance(obstacle, p);
+  if (d <= 0.0 || d >= dhat) return NormalDamping{};
   const Gap g = obstacle_gap(obstacle, p);
   NormalDamping damping{g.normal, g.surface_velocity, 0.0};
-  if (g.d <= 0.0 || g.d >= dhat) return damping;
   const double stiffness = barrier_second_derivative(g.d, dhat, kappa);  // N/m
   damping.coefficient = 2.0 * zeta * std::sqrt(mass * std::max(0.0, stiffness));
   return damping;
