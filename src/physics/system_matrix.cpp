@@ -14,10 +14,8 @@
 
 namespace tissu {
 
-// Adds weighted Jacobian blocks into a value array of the matrix's pattern, scaled by -1
-// (A = M - beta df/dv - beta^2 df/dx: the sink's weights are -beta^2 and -beta with the
-// sign folded in by the caller). Blocks of pinned vertices are skipped.
-// Keeps each triangle's nine blocks, weighted as SlotSink weighs them, at 81 t of `out`.
+// Keeps each triangle's nine blocks, weighted as SlotSink weighs them, at 81 t of `out`
+// (pinned corners' blocks too: the sum over each block's sources skips them).
 class TriangleBlockSink : public JacobianSink {
  public:
   TriangleBlockSink(double beta, double* out) : JacobianSink(-beta * beta, -beta), out_(out) {}
@@ -34,6 +32,9 @@ class TriangleBlockSink : public JacobianSink {
   double* out_;
 };
 
+// Adds weighted Jacobian blocks into a value array of the matrix's pattern, scaled by -1
+// (A = M - beta df/dv - beta^2 df/dx: the sink's weights are -beta^2 and -beta with the
+// sign folded in by the caller). Blocks of pinned vertices are skipped.
 class SlotSink : public JacobianSink {
  public:
   SlotSink(const SystemMatrix& system, const Model& model, double beta, double* values)
@@ -177,6 +178,7 @@ void SystemMatrix::add_membrane_blocks(const Model& model, const Vec3List& x,
                                       const Vec3List& v, double beta, bool project_psd,
                                       int threads) {
   constexpr int kTrianglesPerItem = 256, kRowsPerItem = 256;
+  if (beta == 0.0) return;  // the membrane adds nothing (add_membrane_jacobian's weights)
   const int triangles = model.num_triangles();
   triangle_blocks_.resize(81 * static_cast<size_t>(triangles));
   TriangleBlockSink blocks(beta, triangle_blocks_.data());
