@@ -69,10 +69,8 @@ void BlockSparseMatrix::set_zero() { std::fill(values_.begin(), values_.end(), 0
 void BlockSparseMatrix::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y,
                                  int threads) const {
   y.resize(3 * static_cast<Eigen::Index>(num_vertices_));
-  const int rows = (num_vertices_ + kRowsPerItem - 1) / kRowsPerItem;
-  parallel_for(std::min(threads, rows), rows, [&](int item) {
-    multiply_rows(x, y, item * kRowsPerItem, std::min(num_vertices_, (item + 1) * kRowsPerItem));
-  });
+  parallel_for_ranges(threads, num_vertices_, kRowsPerItem,
+                      [&](int first, int end) { multiply_rows(x, y, first, end); });
 }
 
 void BlockSparseMatrix::multiply_rows(const Eigen::VectorXd& x, Eigen::VectorXd& y, int first,

@@ -64,8 +64,8 @@ class BlockSparseMatrix {
   std::vector<double>& values() { return values_; }
   const std::vector<double>& values() const { return values_; }
 
-  // y = A x (3V vectors).
-  // y = A x, its rows shared among at most `threads` threads (the same bits on any count).
+  // y = A x (3V vectors), its rows shared among at most `threads` threads (the same bits on
+  // any count).
   void multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y, int threads = 1) const;
 
   // Dense copy, for tests on small matrices.

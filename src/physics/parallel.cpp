@@ -4,6 +4,7 @@
 #include <sched.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -163,6 +164,14 @@ void parallel_for(int threads, int count, const std::function<void(int)>& body,
     const int end = share_begin(k + 1, shares, count, cost);
     for (int i = share_begin(k, shares, count, cost); i < end; ++i) body(i);
     inside_share = false;
+  });
+}
+
+void parallel_for_ranges(int threads, int count, int per_range,
+                         const std::function<void(int, int)>& body) {
+  const int ranges = (count + per_range - 1) / per_range;
+  parallel_for(threads, ranges, [&](int r) {
+    body(r * per_range, std::min(count, (r + 1) * per_range));
   });
 }
 

@@ -15,6 +15,11 @@ namespace tissu {
 void parallel_for(int threads, int count, const std::function<void(int)>& body,
                   const double* cost = nullptr);
 
+// parallel_for over [0, count) cut into consecutive ranges of `per_range` indices (the
+// last one shorter): body(first, end) for each.
+void parallel_for_ranges(int threads, int count, int per_range,
+                         const std::function<void(int, int)>& body);
+
 // Name of the helper threads parallel_for starts (for per-thread CPU accounting).
 constexpr const char* kSimulationHelperThreadName = "tissu-sim";
 

@@ -182,19 +182,13 @@ void SystemMatrix::add_membrane_blocks(const Model& model, const Vec3List& x,
   const int triangles = model.num_triangles();
   triangle_blocks_.resize(81 * static_cast<size_t>(triangles));
   TriangleBlockSink blocks(beta, triangle_blocks_.data());
-  const int items = (triangles + kTrianglesPerItem - 1) / kTrianglesPerItem;
-  parallel_for(std::min(threads, items), items, [&](int item) {
-    const int first = item * kTrianglesPerItem;
-    add_membrane_jacobian(model, x, &v, project_psd, first,
-                          std::min(triangles, first + kTrianglesPerItem), blocks);
+  parallel_for_ranges(threads, triangles, kTrianglesPerItem, [&](int first, int end) {
+    add_membrane_jacobian(model, x, &v, project_psd, first, end, blocks);
   });
   // Each block of A adds its sources in triangle order, as SlotSink would one triangle
   // after the other.
   double* values = A_.values().data();
-  const int n = model.num_vertices();
-  const int rows = (n + kRowsPerItem - 1) / kRowsPerItem;
-  parallel_for(std::min(threads, rows), rows, [&](int item) {
-    const int first = item * kRowsPerItem, end = std::min(n, first + kRowsPerItem);
+  parallel_for_ranges(threads, model.num_vertices(), kRowsPerItem, [&](int first, int end) {
     for (int b = A_.row_begin(first); b < A_.row_end(end - 1); ++b) {
       double* target = values + 9 * static_cast<size_t>(b);
       for (int s = slot_sources_start_[b]; s < slot_sources_start_[b + 1]; ++s) {
