@@ -127,9 +127,25 @@ double bending_energy(const BendingModel& model, const Vec3List& x) {
   return 0.5 * X.cwiseProduct(QX).sum();
 }
 
+void center_positions(const Vec3List& x, const Vec3& origin, CenteredPositions& xc) {
+  xc.resize(x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    for (int c = 0; c < 3; ++c) xc[i].c[c] = x[i][c] - origin[c];
+    xc[i].c[3] = 0.0;
+  }
+}
+
+void add_bending_forces(const BendingModel& model, const CenteredPositions& xc, int first,
+                        int end, VertexForces out) {
+  check_size(model, xc.size(), "xc");
+  add_bending_forces_simd(model, xc, first, end, out);
+}
+
 void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
                         int first, int end, VertexForces out) {
-  add_bending_forces_simd(model, x, origin, first, end, out);
+  CenteredPositions xc;
+  center_positions(x, origin, xc);
+  add_bending_forces(model, xc, first, end, out);
 }
 
 void add_bending_forces_scalar(const BendingModel& model, const Vec3List& x,

@@ -68,10 +68,23 @@ double bending_energy(const BendingModel& model, const Vec3List& x);
 // to the sheet's size, not to its distance from the world origin.
 Vec3 bending_origin(const Vec3List& x);
 
+// A position minus the origin (m), padded to four doubles (the fourth 0) and aligned so
+// that the vectorised kernel reads each with one load.
+struct alignas(32) CenteredPoint {
+  double c[4];
+};
+using CenteredPositions = std::vector<CenteredPoint>;
+
+// xc = x - origin for every vertex (xc resized to x's size).
+void center_positions(const Vec3List& x, const Vec3& origin, CenteredPositions& xc);
+
 // Adds the bending forces -dE/dx (N) of vertices [first, end) to out:
-// f_i -= sum_j Q_ij (x_j - origin), origin = bending_origin(x) for the whole mesh.
-// Each vertex reads its own row of Q, so vertex blocks can run on separate threads.
+// f_i -= sum_j Q_ij xc_j, with xc = center_positions(x, bending_origin(x)) for the whole
+// mesh. Each vertex reads its own row of Q, so vertex blocks can run on separate threads.
 // Vectorised (bending_simd.h); the same bits as the scalar loop below.
+void add_bending_forces(const BendingModel& model, const CenteredPositions& xc, int first,
+                        int end, VertexForces out);
+// The same from x and the origin (centres the whole mesh first).
 void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
                         int first, int end, VertexForces out);
 // The same, one coordinate after the other: the reference.

@@ -100,24 +100,26 @@ void forces_stage1_chunk(const Model& model, const Vec3List& x, const Vec3List& 
   }
 }
 
-void forces_stage1_bending(const Model& model, const Vec3List& x, int block,
-                           const ForcePlan& plan, Vec3List& f) {
+void forces_stage1_bending(const Model& model, int block, const ForcePlan& plan, Vec3List& f) {
   const int first = plan.block_begin(block), end = plan.block_end(block);
   std::fill(f.begin() + first, f.begin() + end, Vec3::Zero());
-  add_bending_forces(*model.bending, x, plan.origin, first, end, VertexForces::of(f));
+  add_bending_forces(*model.bending, plan.centered, first, end, VertexForces::of(f));
 }
 
 }  // namespace
 
 void forces_stage1(const Model& model, const Vec3List& x, const Vec3List& v, double t,
                    int threads, ForcePlan& plan, Vec3List& f, ForceTerms terms) {
-  if (model.bending) plan.origin = bending_origin(x);
+  if (model.bending) {
+    plan.origin = bending_origin(x);
+    center_positions(x, plan.origin, plan.centered);
+  }
   parallel_for(threads, static_cast<int>(plan.stage1_items.size()), [&](int k) {
     const int item = plan.stage1_items[k];
     if (item >= 0) {
       forces_stage1_chunk(model, x, v, t, item, plan, terms);
     } else {
-      forces_stage1_bending(model, x, -1 - item, plan, f);
+      forces_stage1_bending(model, -1 - item, plan, f);
     }
   }, plan.stage1_cost.data());
 }

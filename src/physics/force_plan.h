@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "physics/bending.h"
 #include "physics/model.h"
 
 namespace tissu {
@@ -39,6 +40,7 @@ struct ForcePlan {
   int num_triangles = 0;
   Vec3List partial;  // the chunks' buffers, back to back, N
   Vec3 origin = Vec3::Zero();  // bending's reference point for this evaluation, m
+  CenteredPositions centered;  // x - origin, what the bending kernel reads, m
 
   // Plans for `model` unless already planned for it (same mesh_id, triangle array, sizes
   // and terms). Throws std::invalid_argument when the bending model does not fit the mesh.
