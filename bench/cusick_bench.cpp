@@ -5,6 +5,7 @@
 //   tissu_cusick_bench TRIANGLES [--no-clamp] [--shear F] [--bending F] [--strict-rest]
 //                      [--trace STEPS] [--resample] [--graded RATIO] [--band M]
 //                      [--turn RAD] [--membrane F] [--ring-membrane F] [--dt S]
+//                      [--transition M]
 //
 // --no-clamp     the support's triangles are not a clamp in the bending model (pins only)
 // --shear F      shear stiffness times F;  --bending F  B times F
@@ -13,6 +14,7 @@
 // --graded RATIO  the graded disc of the tests (cusick.h, cusick_grading), edges RATIO
 //                times the others just beyond the support's edge
 // --band M      with --graded (given before): the fine band ends M from the centre
+// --transition M  with --graded (given before): the band blends into the coarse edge over M
 // --turn RAD     the mesh turned by RAD about the vertical axis
 // --membrane F   tensile and shear stiffness times F
 // --ring-membrane F  membrane stiffness times F in the triangles with pinned and free corners
@@ -75,6 +77,23 @@ std::vector<double> energy_by_radius(const BendingModel& m, const TriMesh& mesh,
   return bins;
 }
 
+// Mean rest length (m) of the edges whose middle lies within 5 mm beyond the support's edge.
+double edge_at_support(const TriMesh& mesh, double support_radius) {
+  double sum = 0.0;
+  int count = 0;
+  for (const Tri& t : mesh.triangles) {
+    for (int j = 0; j < 3; ++j) {
+      const Vec2 &a = mesh.rest_uv[t[j]], &b = mesh.rest_uv[t[(j + 1) % 3]];
+      const double r = (0.5 * (a + b)).norm();
+      if (r > support_radius && r < support_radius + 0.005) {
+        sum += (a - b).norm();
+        ++count;
+      }
+    }
+  }
+  return count > 0 ? sum / count : 0.0;
+}
+
 void resample(const testing::DrapeSetup& s, const testing::DrapeResult& r) {
   const TriMesh fine = testing::drape_mesh(s);
   const std::vector<double> radii = {0.09, 0.095, 0.10, 0.11, 0.12, 0.13, 0.14, 0.1501};  // m
@@ -130,6 +149,8 @@ int run(int argc, char** argv) {
       s.grading = testing::cusick_grading(s, std::atof(argv[++i]));
     } else if (a == "--band" && has_value && s.grading) {
       s.grading->outer = std::atof(argv[++i]);
+    } else if (a == "--transition" && has_value && s.grading) {
+      s.grading->transition = std::atof(argv[++i]);
     } else if (a == "--turn" && has_value) {
       s.mesh_angle = std::atof(argv[++i]);
     } else if (a == "--membrane" && has_value) {
@@ -156,6 +177,8 @@ int run(int argc, char** argv) {
       r.triangles, 1e3 * r.mean_edge, variant.c_str(), r.coefficient, r.folds,
       r.at_rest ? "at rest" : "NOT at rest", r.time, r.steps, r.kinetic_energy, r.force_residual,
       r.bending_energy, r.membrane_energy, r.gravity_energy, r.seconds);
+  std::printf("mean edge within 5 mm beyond the support's edge: %.2f mm\n",
+              1e3 * edge_at_support(testing::drape_mesh(s), s.support_radius));
   if (resampled) resample(s, r);
   return r.at_rest ? 0 : 1;
 }
