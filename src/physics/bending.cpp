@@ -137,12 +137,12 @@ void center_positions(const Vec3List& x, const Vec3& origin, CenteredPositions& 
 
 void add_bending_forces(const BendingModel& model, const CenteredPositions& xc, int first,
                         int end, VertexForces out) {
-  check_size(model, xc.size(), "xc");
   add_bending_forces_simd(model, xc, first, end, out);
 }
 
 void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
                         int first, int end, VertexForces out) {
+  check_size(model, x.size(), "x");
   CenteredPositions xc;
   center_positions(x, origin, xc);
   add_bending_forces(model, xc, first, end, out);

@@ -73,6 +73,7 @@ Vec3 bending_origin(const Vec3List& x);
 struct alignas(32) CenteredPoint {
   double c[4];
 };
+static_assert(sizeof(CenteredPoint) == 4 * sizeof(double), "the kernel reads 4 doubles a vertex");
 using CenteredPositions = std::vector<CenteredPoint>;
 
 // xc = x - origin for every vertex (xc resized to x's size).
@@ -80,11 +81,13 @@ void center_positions(const Vec3List& x, const Vec3& origin, CenteredPositions& 
 
 // Adds the bending forces -dE/dx (N) of vertices [first, end) to out:
 // f_i -= sum_j Q_ij xc_j, with xc = center_positions(x, bending_origin(x)) for the whole
-// mesh. Each vertex reads its own row of Q, so vertex blocks can run on separate threads.
+// mesh (xc must have the model's vertex count; not checked here, on the step's threads).
+// Each vertex reads its own row of Q, so vertex blocks can run on separate threads.
 // Vectorised (bending_simd.h); the same bits as the scalar loop below.
 void add_bending_forces(const BendingModel& model, const CenteredPositions& xc, int first,
                         int end, VertexForces out);
-// The same from x and the origin (centres the whole mesh first).
+// The same from x and the origin (centres the whole mesh first). Throws
+// std::invalid_argument when x does not have the model's vertex count.
 void add_bending_forces(const BendingModel& model, const Vec3List& x, const Vec3& origin,
                         int first, int end, VertexForces out);
 // The same, one coordinate after the other: the reference.

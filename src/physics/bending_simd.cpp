@@ -18,7 +18,7 @@ struct BendingKernelArgs {
   const double* values;  // Q_ij, N/m
   const double* xc;      // positions minus the origin, m, 4 per vertex (CenteredPoint)
   int first, end;        // vertices
-  double* out;       // forces, N, of vertex i at out[3 (i - first_vertex)]
+  double* out;           // forces, N, of vertex i at out[3 (i - first)]
 };
 }  // namespace tissu
 #endif
@@ -30,8 +30,10 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 void BendingForces(const BendingKernelArgs& k) {
   using D = hn::CappedTag<double, 4>;
-  if constexpr (hn::MaxLanes(D()) < 4) {
-    // Fewer than 4 lanes: the scalar loop of bending.cpp.
+  const D d;
+  if (hn::Lanes(d) < 4) {
+    // Fewer than 4 lanes (narrow instruction sets; scalable vectors may be narrow at run
+    // time): the scalar loop of bending.cpp.
     for (int i = k.first; i < k.end; ++i) {
       double q[3] = {0.0, 0.0, 0.0};
       for (int e = k.starts[i]; e < k.starts[i + 1]; ++e) {
@@ -42,7 +44,6 @@ void BendingForces(const BendingKernelArgs& k) {
       for (int c = 0; c < 3; ++c) o[c] -= q[c];
     }
   } else {
-    const D d;
     // Q_ij xc_j; lane 3 carries the padding's zeros, never used.
     auto entry = [&](int e) {
       return hn::Mul(hn::Set(d, k.values[e]), hn::Load(d, k.xc + 4 * k.columns[e]));
@@ -96,7 +97,7 @@ void add_bending_forces_simd(const BendingModel& model, const CenteredPositions&
   k.starts = Q.outerIndexPtr();
   k.columns = Q.innerIndexPtr();
   k.values = Q.valuePtr();
-  k.xc = xc[0].c;
+  k.xc = xc.data()->c;
   k.first = first;
   k.end = end;
   k.out = out[first].data();
