@@ -128,11 +128,7 @@ double bending_energy(const BendingModel& model, const Vec3List& x) {
 }
 
 void center_positions(const Vec3List& x, const Vec3& origin, CenteredPositions& xc) {
-  xc.resize(x.size());
-  for (size_t i = 0; i < x.size(); ++i) {
-    for (int c = 0; c < 3; ++c) xc[i].c[c] = x[i][c] - origin[c];
-    xc[i].c[3] = 0.0;
-  }
+  center_positions_simd(x, origin, xc);
 }
 
 void add_bending_forces(const BendingModel& model, const CenteredPositions& xc, int first,

@@ -80,6 +80,26 @@ void BendingForces(const BendingKernelArgs& k) {
   }
 }
 
+// xc_i = (x_i - origin, 0) for n vertices: one 4-double load per vertex (its x, y, z and
+// the next vertex's x, set to 0), the last vertex alone.
+void CenterPositions(const double* x, int n, const double* origin, double* xc) {
+  using D = hn::CappedTag<double, 4>;
+  const D d;
+  int i = 0;
+  if (hn::Lanes(d) >= 4) {
+    HWY_ALIGN const double origin4[4] = {origin[0], origin[1], origin[2], 0.0};
+    const auto o = hn::Load(d, origin4);
+    const auto xyz = hn::FirstN(d, 3);
+    for (; i + 1 < n; ++i) {
+      hn::Store(hn::IfThenElseZero(xyz, hn::Sub(hn::LoadU(d, x + 3 * i), o)), d, xc + 4 * i);
+    }
+  }
+  for (; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) xc[4 * i + c] = x[3 * i + c] - origin[c];
+    xc[4 * i + 3] = 0.0;
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace tissu
 HWY_AFTER_NAMESPACE();
@@ -88,6 +108,14 @@ HWY_AFTER_NAMESPACE();
 namespace tissu {
 
 HWY_EXPORT(BendingForces);
+HWY_EXPORT(CenterPositions);
+
+void center_positions_simd(const Vec3List& x, const Vec3& origin, CenteredPositions& xc) {
+  xc.resize(x.size());
+  if (x.empty()) return;
+  HWY_DYNAMIC_DISPATCH(CenterPositions)(x[0].data(), static_cast<int>(x.size()), origin.data(),
+                                         xc.data()->c);
+}
 
 void add_bending_forces_simd(const BendingModel& model, const CenteredPositions& xc, int first,
                              int end, VertexForces out) {

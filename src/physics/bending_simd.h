@@ -9,6 +9,9 @@
 
 namespace tissu {
 
+// xc = x - origin, as center_positions (bending.h), one vector per vertex.
+void center_positions_simd(const Vec3List& x, const Vec3& origin, CenteredPositions& xc);
+
 // f_i -= sum_j Q_ij xc_j for vertices [first, end), N.
 void add_bending_forces_simd(const BendingModel& model, const CenteredPositions& xc, int first,
                              int end, VertexForces out);
