@@ -131,6 +131,11 @@ void center_positions(const Vec3List& x, const Vec3& origin, CenteredPositions& 
   center_positions_simd(x, origin, xc);
 }
 
+void center_positions(const BendingModel& model, const Vec3List& x, CenteredPositions& xc) {
+  check_size(model, x.size(), "x");
+  center_positions(x, bending_origin(x), xc);
+}
+
 void add_bending_forces(const BendingModel& model, const CenteredPositions& xc, int first,
                         int end, VertexForces out) {
   add_bending_forces_simd(model, xc, first, end, out);

@@ -78,10 +78,13 @@ using CenteredPositions = std::vector<CenteredPoint>;
 
 // xc = x - origin for every vertex (xc resized to x's size).
 void center_positions(const Vec3List& x, const Vec3& origin, CenteredPositions& xc);
+// xc = x - bending_origin(x), what add_bending_forces reads. Throws std::invalid_argument
+// when x does not have the model's vertex count.
+void center_positions(const BendingModel& model, const Vec3List& x, CenteredPositions& xc);
 
 // Adds the bending forces -dE/dx (N) of vertices [first, end) to out:
-// f_i -= sum_j Q_ij xc_j, with xc = center_positions(x, bending_origin(x)) for the whole
-// mesh (xc must have the model's vertex count; not checked here, on the step's threads).
+// f_i -= sum_j Q_ij xc_j, with xc = center_positions(model, x) for the whole mesh (the
+// vertex count is checked there, not here, on the step's threads).
 // Each vertex reads its own row of Q, so vertex blocks can run on separate threads.
 // Vectorised (bending_simd.h); the same bits as the scalar loop below.
 void add_bending_forces(const BendingModel& model, const CenteredPositions& xc, int first,

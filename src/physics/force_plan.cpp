@@ -110,13 +110,7 @@ void forces_stage1_bending(const Model& model, int block, const ForcePlan& plan,
 
 void forces_stage1(const Model& model, const Vec3List& x, const Vec3List& v, double t,
                    int threads, ForcePlan& plan, Vec3List& f, ForceTerms terms) {
-  if (model.bending) {
-    if (static_cast<int>(x.size()) != model.bending->num_vertices) {
-      throw std::invalid_argument("forces: positions do not fit the bending model");
-    }
-    plan.origin = bending_origin(x);
-    center_positions(x, plan.origin, plan.centered);
-  }
+  if (model.bending) center_positions(*model.bending, x, plan.centered);
   parallel_for(threads, static_cast<int>(plan.stage1_items.size()), [&](int k) {
     const int item = plan.stage1_items[k];
     if (item >= 0) {

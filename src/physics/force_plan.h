@@ -39,8 +39,7 @@ struct ForcePlan {
   int num_vertices = 0;
   int num_triangles = 0;
   Vec3List partial;  // the chunks' buffers, back to back, N
-  Vec3 origin = Vec3::Zero();  // bending's reference point for this evaluation, m
-  CenteredPositions centered;  // x - origin, what the bending kernel reads, m
+  CenteredPositions centered;  // x - bending_origin(x), what the bending kernel reads, m
 
   // Plans for `model` unless already planned for it (same mesh_id, triangle array, sizes
   // and terms). Throws std::invalid_argument when the bending model does not fit the mesh.
