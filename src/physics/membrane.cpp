@@ -1,6 +1,5 @@
 #include "physics/membrane.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -200,6 +199,68 @@ double max_principal_strain(const Model& model, const Vec3List& x) {
   return worst;
 }
 
+namespace {
+
+// The 2x2 stress [[s_uu, s_uv], [s_uv, s_vv]], N/m.
+Eigen::Matrix2d stress_matrix(const Vec3& s) {
+  Eigen::Matrix2d S;
+  S << s[0], s[2], s[2], s[1];
+  return S;
+}
+
+// The nearest positive semi-definite 2x2 stress: eigenvalues below zero set to zero. With
+// eigenvalues l1 > 0 > l2 it is l1 times the projector (S - l2 I) / (l1 - l2).
+Eigen::Matrix2d nearest_psd(const Vec3& s) {
+  const double mean = 0.5 * (s[0] + s[1]);
+  const double radius = std::hypot(0.5 * (s[0] - s[1]), s[2]);
+  const double high = mean + radius, low = mean - radius;
+  if (low >= 0.0) return stress_matrix(s);
+  if (high <= 0.0) return Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d S = stress_matrix(s);
+  S.diagonal().array() -= low;
+  return (high / (high - low)) * S;
+}
+
+// Weight of the material term J_i E J_j^T in a block: -A (c_x + c_v tau).
+double material_weight_of(const TriangleRest& r, double cx, double cv, double tau) {
+  return -r.area * (cx + cv * tau);
+}
+
+// The nine blocks of a triangle whose Jacobian is symmetric (linear material, and no
+// unsymmetric viscous term). de_a/dx_i = [U V] C_i e_a with C_i = [[r_ui, 0, r_vi],
+// [0, r_vi, r_ui]], so J_i E J_j^T = [U V] K_ij [U V]^T with the 2x2 K_ij = C_i E C_j^T:
+// each block is four outer products of U and V, and block (j, i) is block (i, j)
+// transposed. The geometric term adds -c_x A (r_i^T S r_j) I, r_i = (r_ui, r_vi).
+void add_symmetric_blocks(const TriangleRest& r, const Gradients& g, const Mat3& E,
+                          const Eigen::Matrix2d& S, double material_weight, double cx,
+                          Mat3 blocks[9]) {
+  Eigen::Matrix<double, 2, 3> CE[3];  // C_i E
+  for (int i = 0; i < 3; ++i) {
+    Eigen::Matrix<double, 2, 3> C;
+    C << r.ru[i], 0.0, r.rv[i], 0.0, r.rv[i], r.ru[i];
+    CE[i] = material_weight * (C * E);
+  }
+  const Mat3 UU = g.U * g.U.transpose(), UV = g.U * g.V.transpose(),
+             VV = g.V * g.V.transpose();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i; j < 3; ++j) {
+      // K = (C_i E) C_j^T, weighted.
+      const double k00 = CE[i](0, 0) * r.ru[j] + CE[i](0, 2) * r.rv[j];
+      const double k01 = CE[i](0, 1) * r.rv[j] + CE[i](0, 2) * r.ru[j];
+      const double k10 = CE[i](1, 0) * r.ru[j] + CE[i](1, 2) * r.rv[j];
+      const double k11 = CE[i](1, 1) * r.rv[j] + CE[i](1, 2) * r.ru[j];
+      Mat3& block = blocks[3 * i + j];
+      block = k00 * UU + k01 * UV + k10 * UV.transpose() + k11 * VV;
+      const double geometric = r.ru[i] * r.ru[j] * S(0, 0) + r.rv[i] * r.rv[j] * S(1, 1) +
+                               (r.ru[i] * r.rv[j] + r.rv[i] * r.ru[j]) * S(0, 1);
+      block.diagonal().array() -= cx * r.area * geometric;
+      if (j != i) blocks[3 * j + i] = block.transpose();
+    }
+  }
+}
+
+}  // namespace
+
 // Hessian of W = A/2 e^T E e: H_ij = A [ sum_ab E_ab de_a/dx_i de_b/dx_j^T
 //                                        + (R S R^T)_ij I ],  R = [r_u r_v], S = 2x2 stress.
 // The force Jacobian is -H. Damping: df/dv = -tau A sum_ab E_ab de_a/dx_i de_b/dx_j^T.
@@ -240,12 +301,11 @@ void add_membrane_jacobian(const Model& model, const Vec3List& x, const Vec3List
       s = E * strain;
     }
 
-    Eigen::Matrix2d S;
-    S << s[0], s[2], s[2], s[1];
-    if (project_psd) {
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(S);
-      const Eigen::Vector2d lambda = eig.eigenvalues().cwiseMax(0.0);
-      S = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+    const Eigen::Matrix2d S = project_psd ? nearest_psd(s) : stress_matrix(s);
+    if (!biphasic && !(viscous && !project_psd)) {
+      add_symmetric_blocks(r, g, E, S, material_weight_of(r, cx, cv, tau), cx, blocks);
+      sink.add_triangle(t, tri, blocks);
+      continue;
     }
 
     // de_a/dx_j as columns: J[j].col(a) for a in (uu, vv, uv).
@@ -257,7 +317,7 @@ void add_membrane_jacobian(const Model& model, const Vec3List& x, const Vec3List
     }
     // Force Jacobian blocks: df/dx = -A (material + geometric I [+ viscous]),
     // df/dv = -A tau material.
-    const double material_weight = -r.area * (cx + cv * tau);
+    const double material_weight = material_weight_of(r, cx, cv, tau);
     for (int i = 0; i < 3; ++i) {
       const Eigen::Matrix3d JiE = J[i] * Ev;
       for (int j = 0; j < 3; ++j) {

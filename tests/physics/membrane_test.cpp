@@ -338,6 +338,72 @@ TEST(Membrane, ProjectedJacobianIsNegativeSemiDefiniteUnderCompression) {
   EXPECT_LT(e_proj.eigenvalues().maxCoeff(), 1e-9 * e_proj.eigenvalues().cwiseAbs().maxCoeff());
 }
 
+// The projected, damped Jacobian against its definition written term by term: blocks
+// -A (c_x + c_v tau) J_i E J_j^T - c_x A (r_i^T S+ r_j) I, with J_i's columns de_a/dx_i,
+// S the elastic plus viscous stress and S+ its eigenvalues clamped at zero. The sheet is
+// stretched along u and compressed along v, so stresses of every sign occur.
+TEST(Membrane, ProjectedDampedJacobianIsItsTermByTermDefinition) {
+  Vec3List x;
+  Model m = testing::grid_model(0.1, 0.08, 4, 3, 0.3, 11, &x);
+  m.material = testing::test_material();
+  m.material.damping = 0.01;  // s
+  precompute_rest(m);
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> noise(-1.0, 1.0);
+  for (Vec3& p : x) {
+    p = Vec3(1.01 * p.x(), 0.99 * p.y(), 0.0) + 0.002 * Vec3(noise(rng), noise(rng), noise(rng));
+  }
+  Vec3List v(x.size());
+  for (Vec3& vi : v) vi = 0.2 * Vec3(noise(rng), noise(rng), noise(rng));  // m/s
+  const double cx = 0.7, cv = 0.2, tau = m.material.damping;
+  const Mat3 E = m.material.stiffness();
+  const int n = static_cast<int>(x.size());
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  int signs[3] = {0, 0, 0};  // triangles with stress eigenvalues both >= 0, mixed, both < 0
+  for (int t = 0; t < m.num_triangles(); ++t) {
+    const Tri& tri = m.triangles[t];
+    const TriangleRest& r = m.rest[t];
+    Vec3 U = Vec3::Zero(), V = Vec3::Zero(), dU = Vec3::Zero(), dV = Vec3::Zero();
+    for (int j = 0; j < 3; ++j) {
+      U += r.ru[j] * x[tri[j]];
+      V += r.rv[j] * x[tri[j]];
+      dU += r.ru[j] * v[tri[j]];
+      dV += r.rv[j] * v[tri[j]];
+    }
+    const Vec3 strain(0.5 * (U.squaredNorm() - 1.0), 0.5 * (V.squaredNorm() - 1.0), U.dot(V));
+    const Vec3 rate(U.dot(dU), V.dot(dV), U.dot(dV) + dU.dot(V));
+    const Vec3 s = E * (strain + tau * rate);
+    Eigen::Matrix2d S;
+    S << s[0], s[2], s[2], s[1];
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(S);
+    const Eigen::Vector2d lambda = eig.eigenvalues();
+    ++signs[lambda[0] >= 0.0 ? 0 : (lambda[1] >= 0.0 ? 1 : 2)];
+    const Eigen::Matrix2d S_plus = eig.eigenvectors() * lambda.cwiseMax(0.0).asDiagonal() *
+                                   eig.eigenvectors().transpose();
+    Eigen::Matrix3d J[3];
+    for (int j = 0; j < 3; ++j) {
+      J[j].col(0) = r.ru[j] * U;
+      J[j].col(1) = r.rv[j] * V;
+      J[j].col(2) = r.ru[j] * V + r.rv[j] * U;
+    }
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        const Eigen::Vector2d ri(r.ru[i], r.rv[i]), rj(r.ru[j], r.rv[j]);
+        const Eigen::Matrix3d block = -r.area * (cx + cv * tau) * (J[i] * E * J[j].transpose()) -
+                                      cx * r.area * ri.dot(S_plus * rj) * Mat3::Identity();
+        expected.block<3, 3>(3 * tri[i], 3 * tri[j]) += block;
+      }
+    }
+  }
+  EXPECT_GT(signs[0], 0);
+  EXPECT_GT(signs[1], 0);
+  BlockTriplets out;
+  TripletSink sink(cx, cv, out);
+  add_membrane_jacobian(m, x, &v, /*project_psd=*/true, 0, m.num_triangles(), sink);
+  const Eigen::MatrixXd K = dense(out, n);
+  EXPECT_LT((K - expected).norm(), 1e-12 * expected.norm());
+}
+
 TEST(Membrane, DampingForceAndVelocityJacobian) {
   Vec3List x;
   Model m = testing::grid_model(0.1, 0.08, 3, 2, 0.3, 6, &x);
