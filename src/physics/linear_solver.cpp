@@ -308,6 +308,13 @@ CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Ei
   keep(z);
   p = z;
   double rz = r.dot(z);
+  // Rounding can make CG diverge on an ill-conditioned system (its residual then grows far
+  // beyond |b|, and p^T A p reaches zero): an iterate worse than the start is never
+  // returned, the best one is.
+  Eigen::VectorXd& best_x = work.best_x;
+  const double start_norm = r_norm;
+  double best_norm = r_norm;
+  bool best_kept = false;  // best_x holds the iterate whose residual is best_norm
   while (result.iterations < max_iterations) {
     A.multiply(p, Ap, work.threads);
     keep(Ap);
@@ -325,11 +332,23 @@ CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Ei
       result.converged = true;
       break;
     }
+    if (r_norm < best_norm) {
+      best_norm = r_norm;
+      best_kept = false;
+    } else if (!best_kept) {
+      best_x = x - alpha * p;  // the iterate before this one, the best so far
+      best_kept = true;
+    }
     P.apply(r, z);
     keep(z);
     const double rz_next = r.dot(z);
     p = z + (rz_next / rz) * p;
     rz = rz_next;
+  }
+  if (!result.converged && r_norm > start_norm && best_kept) {
+    x = best_x;
+    keep(x);
+    r_norm = best_norm;
   }
   result.relative_residual = r_norm / b_norm;
   return result;

@@ -162,6 +162,7 @@ struct CgResult {
 // Scratch vectors of the conjugate-gradient loop (kept to avoid allocation per solve).
 struct CgWorkspace {
   Eigen::VectorXd r, z, p, Ap;
+  Eigen::VectorXd best_x;  // the iterate with the smallest residual so far
   int threads = 1;  // for the matrix-vector products
 };
 

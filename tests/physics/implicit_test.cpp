@@ -291,6 +291,29 @@ TEST(LinearSolver, PcgReachesTheRequestedResidual) {
   EXPECT_LT((diag.to_dense() * x - Eigen::VectorXd::Ones(6)).norm(), 1e-12);
 }
 
+// Rounding can leave CG on a system that is not positive definite in effect. On diag(2, 1,
+// -1) with b = (1, 1, 1) and no preconditioning its first iterate, 1.5 b, has the residual
+// (-2, -0.5, 2.5), larger than b, and its next direction has p^T A p < 0: PCG returns its
+// best iterate, the start, not the last.
+TEST(LinearSolver, PcgThatBreaksDownReturnsItsBestIterate) {
+  class Identity : public Preconditioner {
+   public:
+    void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override { z = r; }
+  };
+  BlockSparseMatrix A;
+  A.set_pattern(1, {{0, 0}});
+  Eigen::Map<Mat3>(A.block_values(0)) << 2, 0, 0, 0, 1, 0, 0, 0, -1;
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(3);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(3);
+  CgWorkspace work;
+  const CgResult r = solve_pcg(A, Identity(), b, 1e-10, 10, x, work);
+  EXPECT_TRUE(r.breakdown);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.iterations, 1);
+  EXPECT_EQ(x.norm(), 0.0);
+  EXPECT_DOUBLE_EQ(r.relative_residual, 1.0);
+}
+
 // Without diagonal-only blocks the Cholesky preconditioner is the exact inverse: PCG stops
 // after one iteration at the requested residual. Rows of a vertex without a diagonal block
 // (a pinned vertex) stay zero.
