@@ -221,6 +221,13 @@ Eigen::Matrix2d nearest_psd(const Vec3& s) {
   return (high / (high - low)) * S;
 }
 
+// r_i^T S r_j with r_i = (r_ui, r_vi): the geometric (stress) term of block (i, j) is
+// -c_x A times it on the diagonal.
+double geometric_term(const TriangleRest& r, const Eigen::Matrix2d& S, int i, int j) {
+  return r.ru[i] * r.ru[j] * S(0, 0) + r.rv[i] * r.rv[j] * S(1, 1) +
+         (r.ru[i] * r.rv[j] + r.rv[i] * r.ru[j]) * S(0, 1);
+}
+
 // Weight of the material term J_i E J_j^T in a block: -A (c_x + c_v tau).
 double material_weight_of(const TriangleRest& r, double cx, double cv, double tau) {
   return -r.area * (cx + cv * tau);
@@ -251,9 +258,7 @@ void add_symmetric_blocks(const TriangleRest& r, const Gradients& g, const Mat3&
       const double k11 = CE[i](1, 1) * r.rv[j] + CE[i](1, 2) * r.ru[j];
       Mat3& block = blocks[3 * i + j];
       block = k00 * UU + k01 * UV + k10 * UV.transpose() + k11 * VV;
-      const double geometric = r.ru[i] * r.ru[j] * S(0, 0) + r.rv[i] * r.rv[j] * S(1, 1) +
-                               (r.ru[i] * r.rv[j] + r.rv[i] * r.ru[j]) * S(0, 1);
-      block.diagonal().array() -= cx * r.area * geometric;
+      block.diagonal().array() -= cx * r.area * geometric_term(r, S, i, j);
       if (j != i) blocks[3 * j + i] = block.transpose();
     }
   }
@@ -328,9 +333,7 @@ void add_membrane_jacobian(const Model& model, const Vec3List& x, const Vec3List
         } else {
           block = material_weight * (JiE * J[j].transpose());
         }
-        const double geometric = r.ru[i] * r.ru[j] * S(0, 0) + r.rv[i] * r.rv[j] * S(1, 1) +
-                                 (r.ru[i] * r.rv[j] + r.rv[i] * r.ru[j]) * S(0, 1);
-        block.diagonal().array() -= cx * r.area * geometric;
+        block.diagonal().array() -= cx * r.area * geometric_term(r, S, i, j);
         if (viscous && !project_psd && cx != 0.0) {
           // d(strain rate)/dx_j has the columns of J[j] with (U, V) -> (dU/dt, dV/dt).
           Eigen::Matrix3d Jd;
