@@ -127,7 +127,7 @@ int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& pl
       c.mode = ContactMode::Slide;
     } else if (last.in_contact) {
       c.mode = last.mode;
-      c.friction_limit = last.friction_limit;
+      c.friction_limit = last.friction_force * beta;
     } else if (velocities) {
       predict_mode(c, (*velocities)[i], model.mass[i], gravity, beta);
     } else {
@@ -213,7 +213,7 @@ int ContactSet::switch_modes() {
   return switched;
 }
 
-void ContactSet::remember(const Vec3List& v, const std::vector<double>& release) {
+void ContactSet::remember(const Vec3List& v, const std::vector<double>& release, double beta) {
   for (Memory& m : memory_) m = Memory{};
   for (const VertexContact& c : contacts_) {
     Memory& m = memory_[c.vertex];
@@ -229,7 +229,7 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release)
     if (c.mode == ContactMode::Slide &&
         (c.friction == 0.0 || friction_of(c).sliding(v[c.vertex]).norm() >= kStickSpeed)) {
       m.mode = ContactMode::Slide;
-      m.friction_limit = c.friction * c.normal_impulse;
+      m.friction_force = c.friction * c.normal_impulse / beta;
     }
   }
 }

@@ -19,7 +19,8 @@
 // - slide: a friction impulse of at most mu J_n acts against the sliding velocity u,
 //   F(u) = -mu J_n f1(|u|) u / |u| with f1(y) = 2 y / eps - y^2 / eps^2 below eps and 1
 //   above (eps = kSlidingSpeed, the smoothed Coulomb friction of IPC, Li et al. 2020),
-//   with J_n of the end of the step before held fixed in the step. F is a function of the
+//   with the normal force of the end of the step before (J_n / beta) held fixed in the
+//   step and turned into an impulse over this step's beta. F is a function of the
 //   unknown velocity, with its Jacobian in the system, so a contact that friction slows
 //   down stops smoothly instead of having its friction reverse it.
 // Once the step's solve has converged, a sticking contact whose |J_t| exceeds mu J_n slides
@@ -124,10 +125,12 @@ class ContactSet {
   // switches at most once in a step. Returns how many switched.
   int switch_modes();
 
-  // At the end of a step with velocities v: releases for the next step the contacts that
-  // pulled harder than `release` (per vertex, kg*m/s), chooses the others' modes (see
-  // above) and remembers them with their friction impulses.
-  void remember(const Vec3List& v, const std::vector<double>& release);
+  // At the end of a step with velocities v whose impulses act over beta (s): releases for
+  // the next step the contacts that pulled harder than `release` (per vertex, kg*m/s),
+  // chooses the others' modes (see above) and remembers them with their friction forces,
+  // mu J_n / beta, which the next step turns into impulses over its own beta (BDF-2's
+  // first step is backward Euler's, over h; the next ones are over 2 h / 3).
+  void remember(const Vec3List& v, const std::vector<double>& release, double beta);
 
   int stuck() const;  // contacts sticking
 
@@ -139,7 +142,7 @@ class ContactSet {
     bool in_contact = false;
     bool released = false;  // pulled at the end of the last step: not caught unless inside
     ContactMode mode = ContactMode::Stick;
-    double friction_limit = 0.0;  // kg*m/s
+    double friction_force = 0.0;  // mu J_n / beta while sliding, N
   };
   std::vector<Memory> memory_;
 };

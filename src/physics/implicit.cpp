@@ -627,7 +627,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   report.contacts = s.contacts.size() + s.barrier.active(s.v);
 
   report.stuck_contacts = s.contacts.stuck();
-  s.contacts.remember(s.v, release_impulses(model, eq, s));
+  s.contacts.remember(s.v, release_impulses(model, eq, s), eq.beta);
 
   // Vertices the passes left inside an obstacle (the step's collision stage moves them out).
   if (!s.placed.empty()) {
@@ -678,6 +678,33 @@ void take_velocities(const Model& model, const ImplicitSolver& s, State& state) 
   }
 }
 
+// The midpoint rule's end velocity v of a held contact with friction (see
+// stop_held_contacts): friction only slows a vertex down, but 2 w - v_n counts w's
+// friction twice, which sends a vertex that friction stopped in mid-step back along its
+// path (and the next step's smoothed friction stops it only to about the sticking speed,
+// so it slides to and fro). A sticking contact ends the step moving with the surface; a
+// sliding one whose end velocity along w's sliding direction (relative to the surface)
+// was reversed by that friction ends with none in that direction.
+void stop_by_friction(const Model& model, const ImplicitSolver& s, const VertexContact& c,
+                      Vec3& v) {
+  const Vec3 relative = v - c.surface_velocity;
+  const Vec3 slide_end = relative - c.normal.dot(relative) * c.normal;  // m/s
+  if (c.mode == ContactMode::Stick) {
+    v -= slide_end;
+    return;
+  }
+  const SlidingFriction friction{c.normal, c.surface_velocity, c.friction_limit};
+  const Vec3& w = s.v[c.vertex];
+  const Vec3 slide_step = friction.sliding(w);  // m/s
+  const double speed = slide_step.norm();
+  if (speed == 0.0) return;
+  const Vec3 along = slide_step / speed;
+  const double end = slide_end.dot(along);  // m/s
+  // What w's friction takes off the velocity along `along` over the whole step, m/s.
+  const double braking = -2.0 * model.inv_mass[c.vertex] * friction.impulse(w).dot(along);
+  if (end < 0.0 && end + braking > 0.0) v -= end * along;
+}
+
 // Contact is inelastic: a vertex whose contact held at the end of the step (it pushed, or
 // pulled less than its release impulse) moves with the surface along the normal. Backward
 // Euler's constraint gives that by itself from the step after landing on; BDF-2's base
@@ -686,14 +713,17 @@ void take_velocities(const Model& model, const ImplicitSolver& s, State& state) 
 // rule's 2 w - v_n reflects it. So the relative normal velocity of a held contact is set
 // to 0; with `history` (BDF-2) the normal part of x_n, v_n, the next step's history, is
 // set to that of a vertex that moved at v_{n+1} over the step, so that the next step's
-// base lies on the plane too.
-void stop_held_contacts(const ImplicitSolver& s, State& state, Vec3List* history_x,
-                        Vec3List* history_v, double h) {
+// base lies on the plane too. With `friction_stops` (the midpoint rule) friction's
+// reflection is undone too (stop_by_friction).
+void stop_held_contacts(const Model& model, const ImplicitSolver& s, State& state,
+                        bool friction_stops, Vec3List* history_x, Vec3List* history_v,
+                        double h) {
   for (const VertexContact& c : s.contacts.contacts()) {
     if (c.pull > s.release[c.vertex]) continue;
     const int i = c.vertex;
     Vec3& v = state.v[i];
     v -= c.normal.dot(v - c.surface_velocity) * c.normal;
+    if (friction_stops && c.friction > 0.0) stop_by_friction(model, s, c, v);
     if (!history_x) continue;
     const Vec3 x_before = state.x[i] - h * v;
     (*history_x)[i] += c.normal.dot(x_before - (*history_x)[i]) * c.normal;
@@ -745,15 +775,16 @@ void bdf2_step(const Model& model, State& state, Workspace& ws, double h, double
     newton_solve(model, state, ws, s, StepEquation{h, t, beta, t + h, beta, t + h, 1.0});
     take_velocities(model, s, state);
   }
-  stop_held_contacts(s, state, &s.x_saved, &s.v_saved, h);
+  stop_held_contacts(model, s, state, /*friction_stops=*/false, &s.x_saved, &s.v_saved, h);
   end_step(state, s, h, t);
 }
 
 // Implicit midpoint: v_{n+1} = v_n + h M^-1 f((x_n + x_{n+1})/2, (v_n + v_{n+1})/2),
 // x_{n+1} = x_n + h (v_n + v_{n+1})/2. With the midpoint velocity w = (v_n + v_{n+1})/2
 // this is a backward Euler step of h/2 for w: M (w - v_n) = h/2 f(x_n + h/2 w, w); the
-// step ends at x_n + h w. A vertex in contact keeps no velocity into its obstacle: the
-// rule's reflection 2 w - v_n would bounce it off.
+// step ends at x_n + h w. A vertex in contact keeps no velocity into its obstacle, nor one
+// that friction stopped (stop_held_contacts): the rule's reflection 2 w - v_n would bounce
+// it off, or send it back.
 void midpoint_solve(const Model& model, State& state, Workspace& ws, double h, double t) {
   ImplicitSolver& s = solver_of(ws);
   begin_step(model, state, s);
@@ -772,7 +803,7 @@ void midpoint_solve(const Model& model, State& state, Workspace& ws, double h, d
     const double approach = c.normal.dot(v - c.surface_velocity);
     if (approach < 0.0) v -= approach * c.normal;
   }
-  stop_held_contacts(s, state, nullptr, nullptr, h);
+  stop_held_contacts(model, s, state, /*friction_stops=*/true, nullptr, nullptr, h);
   end_step(state, s, h, t);
 }
 
