@@ -43,16 +43,15 @@ double friction_ratio(double y) {
   return y < eps ? 2.0 / eps - y / (eps * eps) : 1.0 / y;
 }
 
-// The sliding friction of a sliding contact.
-SlidingFriction friction_of(const VertexContact& c) {
-  return SlidingFriction{c.normal, c.surface_velocity, c.friction_limit};
-}
-
 bool has_sliding_friction(const VertexContact& c) {
   return c.mode == ContactMode::Slide && c.friction_limit != 0.0;
 }
 
 }  // namespace
+
+SlidingFriction friction_of(const VertexContact& c) {
+  return SlidingFriction{c.normal, c.surface_velocity, c.friction_limit};
+}
 
 Vec3 SlidingFriction::sliding(const Vec3& v) const {
   const Vec3 relative = v - surface_velocity;

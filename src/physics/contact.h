@@ -77,6 +77,9 @@ struct VertexContact {
   double friction_limit = 0.0;           // mu J_n while sliding, kg*m/s
 };
 
+// The sliding friction of contact c: its normal, surface velocity and friction limit.
+SlidingFriction friction_of(const VertexContact& c);
+
 // The contacts of one step.
 class ContactSet {
  public:

@@ -687,13 +687,12 @@ void take_velocities(const Model& model, const ImplicitSolver& s, State& state) 
 // was reversed by that friction ends with none in that direction.
 void stop_by_friction(const Model& model, const ImplicitSolver& s, const VertexContact& c,
                       Vec3& v) {
-  const Vec3 relative = v - c.surface_velocity;
-  const Vec3 slide_end = relative - c.normal.dot(relative) * c.normal;  // m/s
+  const SlidingFriction friction = friction_of(c);
+  const Vec3 slide_end = friction.sliding(v);  // m/s
   if (c.mode == ContactMode::Stick) {
     v -= slide_end;
     return;
   }
-  const SlidingFriction friction{c.normal, c.surface_velocity, c.friction_limit};
   const Vec3& w = s.v[c.vertex];
   const Vec3 slide_step = friction.sliding(w);  // m/s
   const double speed = slide_step.norm();
