@@ -822,36 +822,44 @@ struct SolveCounts {
   }
 };
 
-// With the barrier, a midpoint step longer than about 1/240 s that stops part of a falling
-// cotton sheet at an obstacle ends with several times the elastic energy its solve saw:
-// the rule weighs the membrane at the midpoint, half way to a stretch the barrier makes
-// at the end (measured: 0.21 J gained at 1/60 s on a 0.6 m sheet, 0.05 J at 1/120 s,
-// none at 1/240 s; docs/implicit.md). So where nothing supplies energy, a midpoint step
-// with the barrier that raises the total energy (the barrier's included) by more than
-// kMidpointEnergySlack of the energy at stake (kinetic, elastic and barrier energy, plus
-// the weight over dhat) is taken again as two halves, at most kMaxMidpointHalvings deep.
-// (Not with the collision stage's impulses, which each half would take whole.)
+// The midpoint rule conserves energy only where the forces are linear over a step. With the
+// barrier, a midpoint step longer than about 1/240 s that stops part of a falling cotton
+// sheet at an obstacle ends with several times the elastic energy its solve saw: the rule
+// weighs the membrane at the midpoint, half way to a stretch the barrier makes at the end
+// (measured: 0.21 J gained at 1/60 s on a 0.6 m sheet, 0.05 J at 1/120 s, none at 1/240 s;
+// docs/implicit.md). Held by the constraints, the same sheet gained 0.05-0.12 J at every step
+// from 1/240 to 1/30 s, the demo diverged at 1/240 s, and without contact a hanging sheet
+// gains energy at 1/64 s (docs/accuracy.md).
+// So where nothing supplies energy, a midpoint step that raises the total energy (the
+// barrier's included) by more than kMidpointEnergySlack of the energy at stake (kinetic,
+// elastic and barrier energy, plus the weight over dhat) is taken again as two halves, at
+// most kMaxMidpointHalvings deep. (Not with the collision stage's impulses, which each half
+// would take whole.)
 constexpr double kMidpointEnergySlack = 1e-4;
 constexpr int kMaxMidpointHalvings = 4;
 
 void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, double h,
                             double t, int halvings = 0) {
   ImplicitSolver& s = solver_of(ws);
-  const bool guard = model.implicit.contact == ContactModel::Barrier && s.kicks.empty() &&
-                     halvings < kMaxMidpointHalvings && !supplies_energy(model);
+  const bool guard =
+      s.kicks.empty() && halvings < kMaxMidpointHalvings && !supplies_energy(model);
   if (!guard) {
     midpoint_solve(model, state, ws, h, t);
     return;
   }
   const State start = state;
   const ContactSet contacts = s.contacts;
-  const double barrier0 = barrier_energy_of(model, state.x, t);
+  const bool barrier = model.implicit.contact == ContactModel::Barrier;
+  auto barrier_energy = [&](const Vec3List& x, double time) {
+    return barrier ? barrier_energy_of(model, x, time) : 0.0;
+  };
+  const double barrier0 = barrier_energy(state.x, t);
   const double e0 = total_energy(model, state) + barrier0;
   const double weight = model.gravity ? free_mass(model) * model.gravity->norm() : 0.0;  // N
   const double at_stake = kinetic_energy(model, state.v) + elastic_energy(model, state.x) +
                           barrier0 + weight * barrier_distance(model);  // J
   midpoint_solve(model, state, ws, h, t);
-  const double e1 = total_energy(model, state) + barrier_energy_of(model, state.x, t + h);
+  const double e1 = total_energy(model, state) + barrier_energy(state.x, t + h);
   if (e1 <= e0 + kMidpointEnergySlack * at_stake) return;
   SolveCounts counts;  // the whole step's solve, discarded, and both halves'
   counts.add(ws);

@@ -424,29 +424,37 @@ TEST(Contact, SlidingFrictionMatchesItsPotentialAndJacobian) {
 
 // A sheet dropped onto a sphere with large steps: no vertex ever ends a step closer to the
 // sphere than its thickness, and contact does no work: the total energy never rises above
-// its value at the start.
+// its value at the start. The midpoint rule conserves energy only where the forces are
+// linear over a step; held by the constraints its stiff membrane gained up to 0.12 J here
+// (twice what friction takes over the run) before its energy guard (implicit.cpp,
+// implicit_midpoint_step) took such steps again in halves.
 TEST(Contact, SheetDroppedOnASphereAtThirtyHertzNeverEndsInsideNorGainsEnergy) {
-  Sheet s = cotton_sheet(0.6, 14, Integrator::BackwardEuler, 1.0 / 30.0);
-  const double radius = 0.15, thickness = 0.002;
-  s.model.obstacles.push_back(sphere(Vec3(0.02, -0.01, -radius - 0.05), radius, 0.3, thickness));
-  s.model.air_damping = 0.3;
-  Workspace ws;
-  const double e0 = total_energy(s.model, s.state);
-  double closest = INFINITY, highest = -INFINITY;
-  int substeps = 0;
-  for (int k = 0; k < 45; ++k) {
-    ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
-    substeps = std::max(substeps, ws.substeps);
-    Vec3 n;
-    for (const Vec3& p : s.state.x) {
-      closest = std::min(closest, s.model.obstacles[0].signed_distance(p, s.state.t, &n));
+  for (Integrator integrator :
+       {Integrator::BackwardEuler, Integrator::Bdf2, Integrator::ImplicitMidpoint}) {
+    SCOPED_TRACE(integrator_name(integrator));
+    Sheet s = cotton_sheet(0.6, 14, integrator, 1.0 / 30.0);
+    const double radius = 0.15, thickness = 0.002;
+    s.model.obstacles.push_back(
+        sphere(Vec3(0.02, -0.01, -radius - 0.05), radius, 0.3, thickness));
+    s.model.air_damping = 0.3;
+    Workspace ws;
+    const double e0 = total_energy(s.model, s.state);
+    double closest = INFINITY, highest = -INFINITY;
+    int substeps = 0;
+    for (int k = 0; k < 45; ++k) {
+      ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+      substeps = std::max(substeps, ws.substeps);
+      Vec3 n;
+      for (const Vec3& p : s.state.x) {
+        closest = std::min(closest, s.model.obstacles[0].signed_distance(p, s.state.t, &n));
+      }
+      highest = std::max(highest, total_energy(s.model, s.state) - e0);
     }
-    highest = std::max(highest, total_energy(s.model, s.state) - e0);
+    EXPECT_GE(closest, thickness - 1e-9);
+    EXPECT_LT(closest, thickness + 1e-3) << "the sheet lands on the sphere";
+    EXPECT_LE(highest, 1e-9);
+    EXPECT_GT(substeps, 1) << "the impact is solved in substeps";
   }
-  EXPECT_GE(closest, thickness - 1e-9);
-  EXPECT_LT(closest, thickness + 1e-3) << "the sheet lands on the sphere";
-  EXPECT_LE(highest, 1e-9);
-  EXPECT_GT(substeps, 1) << "the impact is solved in substeps";
 }
 
 // A sphere moving through a hanging sheet at 1 m/s pushes it aside: every vertex stays
