@@ -17,6 +17,7 @@
 #include "physics/scalar_preconditioner.h"
 #include "physics/step_scratch.h"
 #include "physics/system_matrix.h"
+#include "physics/wind.h"
 
 namespace tissu {
 
@@ -44,6 +45,7 @@ struct ImplicitSolver {
   std::vector<double> triangle_energy;  // (T) membrane energies at the iterate, J
   Vec3List x_saved, v_saved;  // (V) x_n, v_n (become State::previous after the step)
   Vec3List x_substep, v_substep;  // (V) start of the substep being judged, m and m/s
+  Vec3List wind_x, wind_v, wind_f;  // (V) a midpoint step's wind work: m, m/s, N
 
   ContactSet contacts;
   BarrierContact barrier;              // the barrier model's contacts (model.implicit.contact)
@@ -93,14 +95,16 @@ struct StepEquation {
   double warm_scale = 1.0;
 };
 
-// Wind or a moving obstacle can put energy into the cloth.
-bool supplies_energy(const Model& model) {
-  if (model.wind) return true;
+// A moving obstacle can put energy into the cloth through its contacts.
+bool has_moving_obstacle(const Model& model) {
   for (const Obstacle& ob : model.obstacles) {
     if (ob.motion.moves()) return true;
   }
   return false;
 }
+
+// Wind or a moving obstacle can put energy into the cloth.
+bool supplies_energy(const Model& model) { return model.wind || has_moving_obstacle(model); }
 
 // The mass of the vertices that are not pinned, kg.
 double free_mass(const Model& model) {
@@ -830,19 +834,41 @@ struct SolveCounts {
 // docs/implicit.md). Held by the constraints, the same sheet gained 0.05-0.12 J at every step
 // from 1/240 to 1/30 s, the demo diverged at 1/240 s, and without contact a hanging sheet
 // gains energy at 1/64 s (docs/accuracy.md).
-// So where nothing supplies energy, a midpoint step that raises the total energy (the
-// barrier's included) by more than kMidpointEnergySlack of the energy at stake (kinetic,
-// elastic and barrier energy, plus the weight over dhat) is taken again as two halves, at
-// most kMaxMidpointHalvings deep. (Not with the collision stage's impulses, which each half
+// So unless a moving obstacle drives the scene, a midpoint step that raises the total energy
+// (the barrier's included) by more than the wind's work over the step plus
+// kMidpointEnergySlack of the energy at stake (kinetic, elastic and barrier energy, the
+// wind's work, plus the weight over dhat) is taken again as two halves, at most
+// kMaxMidpointHalvings deep. (Not with the collision stage's impulses, which each half
 // would take whole.)
 constexpr double kMidpointEnergySlack = 1e-4;
 constexpr int kMaxMidpointHalvings = 4;
+
+// The wind's work over a midpoint step from x0 to x1 (m) of length h starting at t, J: the
+// step's own force, at the midpoint positions and velocities (x1 - x0) / h, times its
+// displacement. It is the wind's share of the step's change of kinetic energy.
+double midpoint_wind_work(const Model& model, const Vec3List& x0, const Vec3List& x1, double h,
+                          double t, Vec3List& x_mid, Vec3List& w, Vec3List& f) {
+  if (!model.wind) return 0.0;
+  const int n = model.num_vertices();
+  x_mid.resize(n);
+  w.resize(n);
+  f.assign(n, Vec3::Zero());
+  for (int i = 0; i < n; ++i) {
+    x_mid[i] = 0.5 * (x0[i] + x1[i]);
+    w[i] = (x1[i] - x0[i]) / h;
+  }
+  add_wind(model, *model.wind, x_mid, w, t + 0.5 * h, 0, model.num_triangles(),
+           VertexForces::of(f));
+  double work = 0.0;
+  for (int i = 0; i < n; ++i) work += model.pinned[i] ? 0.0 : f[i].dot(x1[i] - x0[i]);
+  return work;
+}
 
 void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, double h,
                             double t, int halvings = 0) {
   ImplicitSolver& s = solver_of(ws);
   const bool guard =
-      s.kicks.empty() && halvings < kMaxMidpointHalvings && !supplies_energy(model);
+      s.kicks.empty() && halvings < kMaxMidpointHalvings && !has_moving_obstacle(model);
   if (!guard) {
     midpoint_solve(model, state, ws, h, t);
     return;
@@ -856,10 +882,12 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
   const double barrier0 = barrier_energy(state.x, t);
   const double e0 = total_energy(model, state) + barrier0;
   const double weight = model.gravity ? free_mass(model) * model.gravity->norm() : 0.0;  // N
-  const double at_stake = kinetic_energy(model, state.v) + elastic_energy(model, state.x) +
-                          barrier0 + weight * barrier_distance(model);  // J
   midpoint_solve(model, state, ws, h, t);
-  const double e1 = total_energy(model, state) + barrier_energy(state.x, t + h);
+  const double wind =
+      midpoint_wind_work(model, start.x, state.x, h, t, s.wind_x, s.wind_v, s.wind_f);  // J
+  const double at_stake = kinetic_energy(model, start.v) + elastic_energy(model, start.x) +
+                          barrier0 + std::abs(wind) + weight * barrier_distance(model);  // J
+  const double e1 = total_energy(model, state) + barrier_energy(state.x, t + h) - wind;
   if (e1 <= e0 + kMidpointEnergySlack * at_stake) return;
   SolveCounts counts;  // the whole step's solve, discarded, and both halves'
   counts.add(ws);
