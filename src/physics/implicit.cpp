@@ -45,7 +45,7 @@ struct ImplicitSolver {
   std::vector<double> triangle_energy;  // (T) membrane energies at the iterate, J
   Vec3List x_saved, v_saved;  // (V) x_n, v_n (become State::previous after the step)
   Vec3List x_substep, v_substep;  // (V) start of the substep being judged, m and m/s
-  Vec3List wind_x, wind_v, wind_f;  // (V) a midpoint step's wind work: m, m/s, N
+  Vec3List work_x, work_v, work_f;  // (V) a midpoint step's supplied work: m, m/s, N
 
   ContactSet contacts;
   BarrierContact barrier;              // the barrier model's contacts (model.implicit.contact)
@@ -834,12 +834,12 @@ struct SolveCounts {
 // docs/implicit.md). Held by the constraints, the same sheet gained 0.05-0.12 J at every step
 // from 1/240 to 1/30 s, the demo diverged at 1/240 s, and without contact a hanging sheet
 // gains energy at 1/64 s (docs/accuracy.md).
-// So unless a moving obstacle drives the scene, a midpoint step that raises the total energy
-// (the barrier's included) by more than the wind's work over the step plus
-// kMidpointEnergySlack of the energy at stake (kinetic, elastic and barrier energy, the
-// wind's work, plus the weight over dhat) is taken again as two halves, at most
-// kMaxMidpointHalvings deep. (Not with the collision stage's impulses, which each half
-// would take whole.)
+// So a midpoint step that raises the total energy (the barrier's included) by more than the
+// work the wind and moving obstacles did over it, plus kMidpointEnergySlack of the energy at
+// stake (kinetic, elastic and barrier energy, that work, plus the weight over dhat), is
+// taken again as two halves, at most kMaxMidpointHalvings deep. (Not with the collision
+// stage's impulses, which each half would take whole; nor with a moving obstacle and the
+// barrier, whose work is not measured.)
 constexpr double kMidpointEnergySlack = 1e-4;
 constexpr int kMaxMidpointHalvings = 4;
 
@@ -864,18 +864,44 @@ double midpoint_wind_work(const Model& model, const Vec3List& x0, const Vec3List
   return work;
 }
 
+// The work the obstacles' contacts do over a midpoint step from `start` to positions x1
+// (m) of length h starting at t, J. A free vertex's contact impulse (constraint and
+// friction) follows from the step's momentum balance: M (v_{n+1} - v_n) = h f(x_mid, w) + J
+// with v_{n+1} = 2 w - v_n, so J = 2 M (w - v_n) - h f(x_mid, w); its work is J . h w.
+double midpoint_contact_work(const Model& model, const State& start, const Vec3List& x1,
+                             double h, double t, Workspace& ws, Vec3List& x_mid, Vec3List& w,
+                             Vec3List& f) {
+  const int n = model.num_vertices();
+  x_mid.resize(n);
+  w.resize(n);
+  for (int i = 0; i < n; ++i) {
+    x_mid[i] = 0.5 * (start.x[i] + x1[i]);
+    w[i] = (x1[i] - start.x[i]) / h;
+  }
+  compute_forces(model, x_mid, w, t + 0.5 * h, f, ws);
+  double work = 0.0;
+  for (int i = 0; i < n; ++i) {
+    if (model.pinned[i]) continue;
+    const Vec3 impulse = 2.0 * model.mass[i] * (w[i] - start.v[i]) - h * f[i];  // kg*m/s
+    work += impulse.dot(x1[i] - start.x[i]);
+  }
+  return work;
+}
+
 void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, double h,
                             double t, int halvings = 0) {
   ImplicitSolver& s = solver_of(ws);
-  const bool guard =
-      s.kicks.empty() && halvings < kMaxMidpointHalvings && !has_moving_obstacle(model);
+  const bool barrier = model.implicit.contact == ContactModel::Barrier;
+  // A moving obstacle's work is measured through the constraints' impulses; the barrier's
+  // force is not among compute_forces' terms, so with it a moving obstacle keeps the rule off.
+  const bool moving = has_moving_obstacle(model);
+  const bool guard = s.kicks.empty() && halvings < kMaxMidpointHalvings && !(moving && barrier);
   if (!guard) {
     midpoint_solve(model, state, ws, h, t);
     return;
   }
   const State start = state;
   const ContactSet contacts = s.contacts;
-  const bool barrier = model.implicit.contact == ContactModel::Barrier;
   auto barrier_energy = [&](const Vec3List& x, double time) {
     return barrier ? barrier_energy_of(model, x, time) : 0.0;
   };
@@ -883,11 +909,14 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
   const double e0 = total_energy(model, state) + barrier0;
   const double weight = model.gravity ? free_mass(model) * model.gravity->norm() : 0.0;  // N
   midpoint_solve(model, state, ws, h, t);
-  const double wind =
-      midpoint_wind_work(model, start.x, state.x, h, t, s.wind_x, s.wind_v, s.wind_f);  // J
+  const double supplied =
+      midpoint_wind_work(model, start.x, state.x, h, t, s.work_x, s.work_v, s.work_f) +
+      (moving ? midpoint_contact_work(model, start, state.x, h, t, ws, s.work_x, s.work_v,
+                                      s.work_f)
+              : 0.0);  // J, the work of the wind and of moving obstacles
   const double at_stake = kinetic_energy(model, start.v) + elastic_energy(model, start.x) +
-                          barrier0 + std::abs(wind) + weight * barrier_distance(model);  // J
-  const double e1 = total_energy(model, state) + barrier_energy(state.x, t + h) - wind;
+                          barrier0 + std::abs(supplied) + weight * barrier_distance(model);  // J
+  const double e1 = total_energy(model, state) + barrier_energy(state.x, t + h) - supplied;
   if (e1 <= e0 + kMidpointEnergySlack * at_stake) return;
   SolveCounts counts;  // the whole step's solve, discarded, and both halves'
   counts.add(ws);
