@@ -843,44 +843,43 @@ struct SolveCounts {
 constexpr double kMidpointEnergySlack = 1e-4;
 constexpr int kMaxMidpointHalvings = 4;
 
-// The wind's work over a midpoint step from x0 to x1 (m) of length h starting at t, J: the
-// step's own force, at the midpoint positions and velocities (x1 - x0) / h, times its
-// displacement. It is the wind's share of the step's change of kinetic energy.
-double midpoint_wind_work(const Model& model, const Vec3List& x0, const Vec3List& x1, double h,
-                          double t, Vec3List& x_mid, Vec3List& w, Vec3List& f) {
-  if (!model.wind) return 0.0;
-  const int n = model.num_vertices();
-  x_mid.resize(n);
-  w.resize(n);
-  f.assign(n, Vec3::Zero());
-  for (int i = 0; i < n; ++i) {
+// The midpoint positions (x0 + x1) / 2 (m) and velocities (x1 - x0) / h (m/s) of a step of
+// length h from x0 to x1.
+void midpoint_path(const Vec3List& x0, const Vec3List& x1, double h, Vec3List& x_mid,
+                   Vec3List& w) {
+  x_mid.resize(x0.size());
+  w.resize(x0.size());
+  for (size_t i = 0; i < x0.size(); ++i) {
     x_mid[i] = 0.5 * (x0[i] + x1[i]);
     w[i] = (x1[i] - x0[i]) / h;
   }
-  add_wind(model, *model.wind, x_mid, w, t + 0.5 * h, 0, model.num_triangles(),
-           VertexForces::of(f));
+}
+
+// The wind's work over a midpoint step from x0 to x1 (m) whose midpoint positions and
+// velocities are x_mid and w at time t_mid, J: the step's own wind force there times the
+// displacement. It is the wind's share of the step's change of kinetic energy.
+double midpoint_wind_work(const Model& model, const Vec3List& x0, const Vec3List& x1,
+                          const Vec3List& x_mid, const Vec3List& w, double t_mid, Vec3List& f) {
+  f.assign(x0.size(), Vec3::Zero());
+  add_wind(model, *model.wind, x_mid, w, t_mid, 0, model.num_triangles(), VertexForces::of(f));
   double work = 0.0;
-  for (int i = 0; i < n; ++i) work += model.pinned[i] ? 0.0 : f[i].dot(x1[i] - x0[i]);
+  for (int i = 0; i < model.num_vertices(); ++i) {
+    if (!model.pinned[i]) work += f[i].dot(x1[i] - x0[i]);
+  }
   return work;
 }
 
-// The work the obstacles' contacts do over a midpoint step from `start` to positions x1
-// (m) of length h starting at t, J. A free vertex's contact impulse (constraint and
-// friction) follows from the step's momentum balance: M (v_{n+1} - v_n) = h f(x_mid, w) + J
-// with v_{n+1} = 2 w - v_n, so J = 2 M (w - v_n) - h f(x_mid, w); its work is J . h w.
+// The work the obstacles' contacts do over a midpoint step of length h from `start` to
+// positions x1 (m), with midpoint positions and velocities x_mid and w at time t_mid, J. A
+// free vertex's contact impulse (constraint and friction) follows from the step's momentum
+// balance: M (v_{n+1} - v_n) = h f(x_mid, w) + J with v_{n+1} = 2 w - v_n, so
+// J = 2 M (w - v_n) - h f(x_mid, w); its work is J . h w.
 double midpoint_contact_work(const Model& model, const State& start, const Vec3List& x1,
-                             double h, double t, Workspace& ws, Vec3List& x_mid, Vec3List& w,
-                             Vec3List& f) {
-  const int n = model.num_vertices();
-  x_mid.resize(n);
-  w.resize(n);
-  for (int i = 0; i < n; ++i) {
-    x_mid[i] = 0.5 * (start.x[i] + x1[i]);
-    w[i] = (x1[i] - start.x[i]) / h;
-  }
-  compute_forces(model, x_mid, w, t + 0.5 * h, f, ws);
+                             const Vec3List& x_mid, const Vec3List& w, double h, double t_mid,
+                             Workspace& ws, Vec3List& f) {
+  compute_forces(model, x_mid, w, t_mid, f, ws);
   double work = 0.0;
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < model.num_vertices(); ++i) {
     if (model.pinned[i]) continue;
     const Vec3 impulse = 2.0 * model.mass[i] * (w[i] - start.v[i]) - h * f[i];  // kg*m/s
     work += impulse.dot(x1[i] - start.x[i]);
@@ -909,11 +908,18 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
   const double e0 = total_energy(model, state) + barrier0;
   const double weight = model.gravity ? free_mass(model) * model.gravity->norm() : 0.0;  // N
   midpoint_solve(model, state, ws, h, t);
-  const double supplied =
-      midpoint_wind_work(model, start.x, state.x, h, t, s.work_x, s.work_v, s.work_f) +
-      (moving ? midpoint_contact_work(model, start, state.x, h, t, ws, s.work_x, s.work_v,
-                                      s.work_f)
-              : 0.0);  // J, the work of the wind and of moving obstacles
+  double supplied = 0.0;  // J, the work of the wind and of moving obstacles
+  if (model.wind || moving) {
+    const double t_mid = t + 0.5 * h;
+    midpoint_path(start.x, state.x, h, s.work_x, s.work_v);
+    if (model.wind) {
+      supplied += midpoint_wind_work(model, start.x, state.x, s.work_x, s.work_v, t_mid, s.work_f);
+    }
+    if (moving) {
+      supplied += midpoint_contact_work(model, start, state.x, s.work_x, s.work_v, h, t_mid, ws,
+                                        s.work_f);
+    }
+  }
   const double at_stake = kinetic_energy(model, start.v) + elastic_energy(model, start.x) +
                           barrier0 + std::abs(supplied) + weight * barrier_distance(model);  // J
   const double e1 = total_energy(model, state) + barrier_energy(state.x, t + h) - supplied;
