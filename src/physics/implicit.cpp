@@ -838,8 +838,7 @@ struct SolveCounts {
 // work the wind and moving obstacles did over it, plus kMidpointEnergySlack of the energy at
 // stake (kinetic, elastic and barrier energy, that work, plus the weight over dhat), is
 // taken again as two halves, at most kMaxMidpointHalvings deep. (Not with the collision
-// stage's impulses, which each half would take whole; nor with a moving obstacle and the
-// barrier, whose work is not measured.)
+// stage's impulses, which each half would take whole.)
 constexpr double kMidpointEnergySlack = 1e-4;
 constexpr int kMaxMidpointHalvings = 4;
 
@@ -890,11 +889,12 @@ double midpoint_contact_work(const Model& model, const State& start, const Vec3L
 void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, double h,
                             double t, int halvings = 0) {
   ImplicitSolver& s = solver_of(ws);
-  const bool barrier = model.implicit.contact == ContactModel::Barrier;
-  // A moving obstacle's work is measured through the constraints' impulses; the barrier's
-  // force is not among compute_forces' terms, so with it a moving obstacle keeps the rule off.
+  // A moving obstacle's work is measured through the contact impulses of the step's momentum
+  // balance, which include the barrier's (its force is not among compute_forces' terms); so
+  // with a moving obstacle the barrier's energy stays out of the balance, and its work is in.
   const bool moving = has_moving_obstacle(model);
-  const bool guard = s.kicks.empty() && halvings < kMaxMidpointHalvings && !(moving && barrier);
+  const bool barrier = model.implicit.contact == ContactModel::Barrier && !moving;
+  const bool guard = s.kicks.empty() && halvings < kMaxMidpointHalvings;
   if (!guard) {
     midpoint_solve(model, state, ws, h, t);
     return;
