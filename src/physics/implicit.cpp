@@ -905,7 +905,8 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
     return barrier ? barrier_energy_of(model, x, time) : 0.0;
   };
   const double barrier0 = barrier_energy(state.x, t);
-  const double e0 = total_energy(model, state) + barrier0;
+  const double kinetic0 = kinetic_energy(model, state.v), elastic0 = elastic_energy(model, state.x);
+  const double e0 = kinetic0 + elastic0 + gravity_potential(model, state.x) + barrier0;  // J
   const double weight = model.gravity ? free_mass(model) * model.gravity->norm() : 0.0;  // N
   midpoint_solve(model, state, ws, h, t);
   double supplied = 0.0;  // J, the work of the wind and of moving obstacles
@@ -920,8 +921,8 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
                                         s.work_f);
     }
   }
-  const double at_stake = kinetic_energy(model, start.v) + elastic_energy(model, start.x) +
-                          barrier0 + std::abs(supplied) + weight * barrier_distance(model);  // J
+  const double at_stake = kinetic0 + elastic0 + barrier0 + std::abs(supplied) +
+                          weight * barrier_distance(model);  // J
   const double e1 = total_energy(model, state) + barrier_energy(state.x, t + h) - supplied;
   if (e1 <= e0 + kMidpointEnergySlack * at_stake) return;
   SolveCounts counts;  // the whole step's solve, discarded, and both halves'
