@@ -54,6 +54,10 @@ struct ImplicitSolver {
   std::vector<double> release;         // (V) pull that releases a contact, kg*m/s
   // (V) velocity changes given to the step as impulses M kick (empty: none), m/s.
   Vec3List kicks;
+  // Substeps the collision stage's energy rule needed in the last step (0: none), and the
+  // deepest halving it took in the step under way.
+  int stage_substeps = 0;
+  int stage_depth = 0;
 
   ImplicitReport report;
 };
@@ -1102,6 +1106,8 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
     counts.add(ws);
     substep(model, state, ws, s, 0.5 * h, t + 0.5 * h, stage, halvings + 1);
     counts.add(ws);
+  } else {
+    s.stage_depth = std::max(s.stage_depth, halvings);
   }
   counts.store(ws);
 }
@@ -1135,9 +1141,12 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
   ImplicitSolver& s = solver_of(ws);
   const bool stage = needs_cloth_contact(model);
   const bool closed = !supplies_energy(model);  // the energy rule of keep_substep applies
-  int substeps = implicit_substeps(model, state);
+  // A step starts at the substeps the stage's energy rule needed in the last one, so that
+  // it does not take again the long substeps that rule rejects while layers touch.
+  int substeps = std::max(implicit_substeps(model, state), std::min(s.stage_substeps, kMaxSubsteps));
   SolveCounts counts;
   for (;;) {
+    s.stage_depth = 0;
     const State start = state;
     const ContactSet contacts = s.contacts;
     const double h = model.dt / substeps;
@@ -1161,6 +1170,8 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
   }
   counts.store(ws);
   ws.substeps = substeps;
+  // Kept while the rule still halves; relaxed by half a step after a step it did not.
+  s.stage_substeps = s.stage_depth > 0 ? substeps << s.stage_depth : s.stage_substeps / 2;
 }
 
 }  // namespace tissu
