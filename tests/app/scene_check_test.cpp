@@ -80,6 +80,16 @@ TEST(ContactScenes, TableclothWithBackwardEulerAtSixtyHertzGainsNoEnergyNorCross
   expect_implicit_run_gains_nothing("tablecloth.json", "backward_euler");
 }
 
+// The gusty flag of scenes/hard/gusty_wind.json with self-collision, and the midpoint
+// rule at 1/60 s. The wind supplies energy, so the stage's energy rule allows the wind's
+// work; without that rule here the run diverged at t = 0.13 s (129 m/s).
+TEST(ContactScenes, GustyFlagWithSelfCollisionAndTheMidpointRuleAtSixtyHertzStaysBounded) {
+  const RunResult r = run_checked("hard/gusty_wind.json",
+                                  {"self_collision.thickness=0.003", "integrator=implicit_midpoint",
+                                   "dt=0.016666666666666666", "duration=0.4"});
+  expect_no_crossing(r);  // and the run ended ok, not diverged
+}
+
 TEST(ContactScenes, TableclothHasNoCrossingInAnyFrame) {
   const RunResult r = run_checked("tablecloth.json", {"cloth.mesh.triangles=600", "dt=6e-5",
                                                       "duration=0.8"});
