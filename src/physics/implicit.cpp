@@ -1062,10 +1062,12 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   const State start = state;
   const ContactSet contacts = s.contacts;
   const bool guard = halvings < kMaxStageHalvings && !has_moving_obstacle(model);
+  const bool barrier = model.implicit.contact == ContactModel::Barrier;
   double e0 = 0.0, slack = 0.0;  // J
   if (guard) {
     const double kinetic = kinetic_energy(model, state.v), elastic = elastic_energy(model, state.x);
-    e0 = kinetic + elastic + gravity_potential(model, state.x);
+    e0 = kinetic + elastic + gravity_potential(model, state.x) +
+         (barrier ? barrier_energy_of(model, state.x, t) : 0.0);
     const double weight = model.gravity ? free_mass(model) * model.gravity->norm() : 0.0;  // N
     slack = kMidpointEnergySlack * (kinetic + elastic) +
             weight * kKickTolerance * contact_length(model);
@@ -1106,7 +1108,10 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
                                   s.work_f);
     slack += kMidpointEnergySlack * std::abs(supplied);
   }
-  if (guard && corrected && total_energy(model, state) - supplied > e0 + slack) {
+  const double e1 = guard && corrected ? total_energy(model, state) - supplied +
+                                              (barrier ? barrier_energy_of(model, state.x, t + h) : 0.0)
+                                        : 0.0;  // J
+  if (guard && corrected && e1 > e0 + slack) {
     state = start;
     s.contacts = contacts;
     substep(model, state, ws, s, 0.5 * h, t, stage, halvings + 1);
