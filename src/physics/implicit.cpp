@@ -117,6 +117,11 @@ double free_mass(const Model& model) {
   return mass;
 }
 
+// The weight of the vertices that are not pinned, N.
+double free_weight(const Model& model) {
+  return model.gravity ? free_mass(model) * model.gravity->norm() : 0.0;
+}
+
 // The state's history holds the step before the one of size h starting at t.
 bool has_history(const Model& model, const State& state, double h, double t) {
   const size_t n = static_cast<size_t>(model.num_vertices());
@@ -911,7 +916,6 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
   const double barrier0 = barrier_energy(state.x, t);
   const double kinetic0 = kinetic_energy(model, state.v), elastic0 = elastic_energy(model, state.x);
   const double e0 = kinetic0 + elastic0 + gravity_potential(model, state.x) + barrier0;  // J
-  const double weight = model.gravity ? free_mass(model) * model.gravity->norm() : 0.0;  // N
   midpoint_solve(model, state, ws, h, t);
   double supplied = 0.0;  // J, the work of the wind and of moving obstacles
   if (model.wind || moving) {
@@ -926,7 +930,7 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
     }
   }
   const double at_stake = kinetic0 + elastic0 + barrier0 + std::abs(supplied) +
-                          weight * barrier_distance(model);  // J
+                          free_weight(model) * barrier_distance(model);  // J
   const double e1 = total_energy(model, state) + barrier_energy(state.x, t + h) - supplied;
   if (e1 <= e0 + kMidpointEnergySlack * at_stake) return;
   SolveCounts counts;  // the whole step's solve, discarded, and both halves'
@@ -1061,17 +1065,6 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   }
   const State start = state;
   const ContactSet contacts = s.contacts;
-  const bool guard = halvings < kMaxStageHalvings && !has_moving_obstacle(model);
-  const bool barrier = model.implicit.contact == ContactModel::Barrier;
-  double e0 = 0.0, slack = 0.0;  // J
-  if (guard) {
-    const double kinetic = kinetic_energy(model, state.v), elastic = elastic_energy(model, state.x);
-    e0 = kinetic + elastic + gravity_potential(model, state.x) +
-         (barrier ? barrier_energy_of(model, state.x, t) : 0.0);
-    const double weight = model.gravity ? free_mass(model) * model.gravity->norm() : 0.0;  // N
-    slack = kMidpointEnergySlack * (kinetic + elastic) +
-            weight * kKickTolerance * contact_length(model);
-  }
   bool corrected = false;
   method_step(model, state, ws, h, t);
   SolveCounts counts;
@@ -1101,26 +1094,33 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
     counts.add(ws);
   }
   s.kicks.clear();
-  double supplied = 0.0;  // J: the wind's work along the substep's straight path
-  if (guard && corrected && model.wind) {
-    midpoint_path(start.x, state.x, h, s.work_x, s.work_v);
-    supplied = midpoint_wind_work(model, start.x, state.x, s.work_x, s.work_v, t + 0.5 * h,
-                                  s.work_f);
-    slack += kMidpointEnergySlack * std::abs(supplied);
+  double gain = 0.0, slack = 0.0;  // J: the substep's energy gain, and what it may gain
+  const bool guard = corrected && halvings < kMaxStageHalvings && !has_moving_obstacle(model);
+  if (guard) {
+    const bool barrier = model.implicit.contact == ContactModel::Barrier;
+    const double kinetic = kinetic_energy(model, start.v), elastic = elastic_energy(model, start.x);
+    const double e0 = kinetic + elastic + gravity_potential(model, start.x) +
+                      (barrier ? barrier_energy_of(model, start.x, t) : 0.0);
+    double supplied = 0.0;  // J: the wind's work along the substep's straight path
+    if (model.wind) {
+      midpoint_path(start.x, state.x, h, s.work_x, s.work_v);
+      supplied = midpoint_wind_work(model, start.x, state.x, s.work_x, s.work_v, t + 0.5 * h,
+                                    s.work_f);
+    }
+    const double e1 = total_energy(model, state) - supplied +
+                      (barrier ? barrier_energy_of(model, state.x, t + h) : 0.0);
+    gain = e1 - e0;
+    slack = kMidpointEnergySlack * (kinetic + elastic + std::abs(supplied)) +
+            free_weight(model) * settled;
   }
-  double e1 = 0.0;  // J: the energy at the end, less what the wind supplied
-  if (guard && corrected) {
-    e1 = total_energy(model, state) - supplied +
-         (barrier ? barrier_energy_of(model, state.x, t + h) : 0.0);
-  }
-  if (guard && corrected && e1 > e0 + slack) {
+  if (guard && gain > slack) {
     state = start;
     s.contacts = contacts;
     // The gain falls about fourfold per halving (on the fold above): halve at once as
     // often as that needs, rather than trying each length in turn.
     int k = 1;
-    for (double gain = e1 - e0; gain > 4.0 * slack && halvings + k < kMaxStageHalvings;
-         gain /= 4.0) {
+    for (double left = gain; left > 4.0 * slack && halvings + k < kMaxStageHalvings;
+         left /= 4.0) {
       ++k;
     }
     const int pieces = 1 << k;
