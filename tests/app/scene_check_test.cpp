@@ -33,6 +33,11 @@ void expect_no_crossing(const RunResult& r) {
   }
 }
 
+// A frame's kinetic, elastic and gravitational energy, J.
+double frame_energy(const FrameStats& f) {
+  return f.kinetic_energy + f.elastic_energy + f.potential_energy;
+}
+
 // As above, and the cloth met itself or the obstacle on the way.
 void expect_clean(const RunResult& r) {
   expect_no_crossing(r);
@@ -55,12 +60,9 @@ void expect_implicit_run_gains_nothing(const std::string& scene, const std::stri
   const RunResult r = run_checked(scene, {"cloth.mesh.triangles=600", "integrator=" + integrator,
                                           "dt=0.016666666666666666", "duration=0.8"});
   expect_clean(r);
-  auto energy = [](const FrameStats& f) {
-    return f.kinetic_energy + f.elastic_energy + f.potential_energy;  // J
-  };
-  const double start = energy(r.frames.front());
+  const double start = frame_energy(r.frames.front());
   for (const FrameStats& f : r.frames) {
-    EXPECT_LE(energy(f), start + 1e-6) << "t = " << f.time << " s";
+    EXPECT_LE(frame_energy(f), start + 1e-6) << "t = " << f.time << " s";
   }
 }
 
@@ -129,12 +131,9 @@ TEST(ContactScenes, StudySphereAtSmallImplicitStepsGainsNoEnergy) {
   const RunResult r = run_simulation(scene, sim, options, nullptr);
   ASSERT_EQ(r.status, RunStatus::Ok);
   ASSERT_GT(r.frames.size(), 20u);
-  auto energy = [](const FrameStats& f) {
-    return f.kinetic_energy + f.elastic_energy + f.potential_energy;
-  };
-  const double start = energy(r.frames.front());  // J
+  const double start = frame_energy(r.frames.front());  // J
   for (const FrameStats& f : r.frames) {
-    EXPECT_LE(energy(f), start + 1e-6) << "t = " << f.time << " s";
+    EXPECT_LE(frame_energy(f), start + 1e-6) << "t = " << f.time << " s";
     EXPECT_LT(f.max_speed, 5.0) << "t = " << f.time << " s";
   }
 }
