@@ -975,36 +975,67 @@ const ImplicitReport& implicit_midpoint(const Model& model, State& state, Worksp
   return *last_implicit_report(ws);
 }
 
-int implicit_substeps(const Model& model, const State& state) {
+namespace {
+
+// The largest approach speed, over length(obstacle) (m), of the vertices that may reach an
+// obstacle within the step, 1/s; obstacles of length 0 are skipped. A moving obstacle is
+// looked at where it starts the step as well as where it ends it: one that passes the
+// cloth within the step is, at its end, moving away from the vertices it passed.
+template <class Length>
+double approach_rate(const Model& model, const State& state, const Length& length) {
   const double h = model.dt;
-  double rate = 0.0;  // 1/s: a speed relative to a length
-  double edges = 0.0;  // sum of rest edge lengths, m
-  for (int k = 0; k < model.num_triangles(); ++k) {
-    const Tri& tri = model.triangles[k];
-    for (int e = 0; e < 3; ++e) {
-      const int a = tri[e], b = tri[(e + 1) % 3];
-      edges += (model.rest_uv[a] - model.rest_uv[b]).norm();
-      const double length = (state.x[a] - state.x[b]).norm();
-      if (length > 0.0) rate = std::max(rate, (state.v[a] - state.v[b]).norm() / length);
-    }
-  }
-  // Vertices that may reach an obstacle within the step, by their approach speed.
-  if (!model.obstacles.empty() && edges > 0.0) {
-    const double edge = edges / (3.0 * model.num_triangles());  // m, mean rest edge
-    const double fall = model.gravity ? 0.5 * model.gravity->norm() * h * h : 0.0;  // m
-    for (const Obstacle& ob : model.obstacles) {
-      const PlacedObstacle placed = place_obstacle(ob, state.t + h);
+  const double fall = model.gravity ? 0.5 * model.gravity->norm() * h * h : 0.0;  // m
+  double rate = 0.0;
+  for (const Obstacle& ob : model.obstacles) {
+    const double l = length(ob);
+    if (l <= 0.0) continue;
+    for (const double t : {state.t + h, state.t}) {
+      const PlacedObstacle placed = place_obstacle(ob, t);
       for (int i = 0; i < model.num_vertices(); ++i) {
         if (model.pinned[i]) continue;
         const SurfacePoint p = placed.closest(state.x[i]);
         const double approach = -p.normal.dot(state.v[i] - p.velocity);  // m/s
         if (approach <= 0.0) continue;
-        if (p.distance - ob.thickness < approach * h + fall) rate = std::max(rate, approach / edge);
+        if (p.distance - ob.thickness < approach * h + fall) rate = std::max(rate, approach / l);
       }
+      if (!ob.motion.moves()) break;
     }
   }
-  const double substeps = std::ceil(h * rate / kSubstepMotion);
+  return rate;
+}
+
+int substeps_for(const Model& model, double rate) {
+  const double substeps = std::ceil(model.dt * rate / kSubstepMotion);
   return static_cast<int>(std::clamp(substeps, 1.0, static_cast<double>(kMaxSubsteps)));
+}
+
+// The mean rest edge, m.
+double mean_rest_edge(const Model& model) {
+  double edges = 0.0;
+  for (const Tri& tri : model.triangles) {
+    for (int e = 0; e < 3; ++e) edges += (model.rest_uv[tri[e]] - model.rest_uv[tri[(e + 1) % 3]]).norm();
+  }
+  return model.num_triangles() > 0 ? edges / (3.0 * model.num_triangles()) : 0.0;
+}
+
+}  // namespace
+
+int implicit_substeps(const Model& model, const State& state) {
+  double rate = 0.0;  // 1/s: a speed relative to a length
+  for (int k = 0; k < model.num_triangles(); ++k) {
+    const Tri& tri = model.triangles[k];
+    for (int e = 0; e < 3; ++e) {
+      const int a = tri[e], b = tri[(e + 1) % 3];
+      const double length = (state.x[a] - state.x[b]).norm();
+      if (length > 0.0) rate = std::max(rate, (state.v[a] - state.v[b]).norm() / length);
+    }
+  }
+  // Vertices that may reach an obstacle within the step, by their approach speed.
+  if (!model.obstacles.empty()) {
+    const double edge = mean_rest_edge(model);
+    rate = std::max(rate, approach_rate(model, state, [edge](const Obstacle&) { return edge; }));
+  }
+  return substeps_for(model, rate);
 }
 
 const ImplicitReport* last_implicit_report(const Workspace& ws) {

@@ -523,6 +523,24 @@ TEST(Contact, MidpointSheetStruckByAFastSphereStaysBoundedAndOutside) {
   }
 }
 
+// A ball at 10 m/s crosses 0.33 m in a step of 1/30 s, more than its diameter: it would
+// pass the hanging sheet within one step and be seen on neither side of it. The step is
+// split where the ball starts it close to the sheet, so it pushes the sheet on.
+TEST(Contact, BallThatWouldPassTheSheetWithinOneStepPushesIt) {
+  for (const double start : {-1.1, -0.9}) {  // m: the ball's centre at t = 0
+    SCOPED_TRACE(start);
+    Sheet s = sheet_in_a_balls_path(Integrator::BackwardEuler, 1.0 / 30.0, 10.0);
+    s.model.obstacles[0].center.y() = start;
+    Workspace ws;
+    double pushed = 0.0;  // m, the farthest a vertex went along the ball's path
+    for (int k = 0; k < 6; ++k) {  // 0.2 s: the ball has passed the sheet's plane
+      ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+      for (const Vec3& p : s.state.x) pushed = std::max(pushed, p.y());
+    }
+    EXPECT_GT(pushed, 0.05) << "the ball passed the sheet without touching it";
+  }
+}
+
 // --- Substeps --------------------------------------------------------------------------
 
 // A sheet at rest needs one solve per step; one about to hit a plane at 3 m/s is split so
