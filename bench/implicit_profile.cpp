@@ -3,11 +3,12 @@
 // and the step's processor time (one thread unless --threads). Totals at the end.
 //   ./build/bench/tissu_implicit_profile SCENE [--set KEY=VALUE]... [--every N] [--detail]
 //       [--threads N]   (default 1; times are processor time, summed over the threads)
-// --detail adds, for each printed step, the substeps its approach rule planned and those it
-// took, and its last substep's Newton iterations one by one (residual, line-search length,
-// the barrier's longest step, the merit's change, vertices within dhat, CG iterations),
-// factorizations, contact changes and the processor time of its stages. A run that diverges stops there, averages over the steps
-// it took and exits with 3.
+// --detail adds, for each printed step, the substeps the approach rule predicted, those the
+// step was planned with (fewer after a step that moved little) and those it took; its last
+// substep's Newton iterations one by one (residual, line-search length, the barrier's
+// longest step, the merit's change, vertices within dhat, CG iterations), factorizations,
+// contact changes and the processor time of its stages. A run that diverges stops there,
+// averages over the steps it took and exits with 3.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -91,7 +92,7 @@ int main(int argc, char** argv) {
   long long newton = 0, cg = 0, factorizations = 0, steps = 0;
   bool diverged = false;
   for (long long k = 0; k < scene.steps; ++k) {
-    const int planned = detail ? implicit_substeps(sim.model, sim.state) : 0;
+    const int predicted = detail ? implicit_substeps(sim.model, sim.state) : 0;
     const std::clock_t t0 = std::clock();
     const auto divergence = step(sim.model, sim.state, ws);
     const double ms = 1e3 * static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
@@ -105,7 +106,8 @@ int main(int argc, char** argv) {
       std::printf("%6lld %8.4f %4d %6d %6d %8d %8.1f\n", k, sim.state.t, ws.substeps,
                   ws.newton_iterations, ws.cg_iterations, r->contacts, ms);
       if (detail) {
-        std::printf("       substeps planned %d, taken %d\n", planned, ws.substeps);
+        std::printf("       substeps predicted %d, planned %d, taken %d\n", predicted,
+                    ws.planned_substeps, ws.substeps);
         print_detail(*r);
       }
     }

@@ -89,6 +89,19 @@ const ImplicitReport* last_implicit_report(const Workspace& ws);
 constexpr double kSubstepMotion = 0.5;
 constexpr int kMaxSubsteps = 16;
 int implicit_substeps(const Model& model, const State& state);
+// The largest change of an edge's vector between positions x0 and x1, over the edge's
+// length at x0: how far a vertex moved relative to its neighbours, in edges. A step is
+// planned with fewer substeps than implicit_substeps when its last step moved no vertex
+// more than kMotionLimit of an edge per substep; if one of its substeps then does, the step
+// is taken again with the substeps implicit_substeps asks for.
+double relative_motion(const Model& model, const Vec3List& x0, const Vec3List& x1);
+constexpr double kMotionLimit = 2.0 * kSubstepMotion;
+// The substeps below which a step is never planned, since a vertex could pass an obstacle
+// within one unseen: those that let a vertex that may reach a sphere or cylinder close at
+// most kSubstepMotion of its radius on it per substep (a mesh obstacle: of a mean rest
+// edge, its parts may be thin). A plane bounds a half-space that no vertex can pass
+// without ending inside it.
+int passing_substeps(const Model& model, const State& state);
 
 // The step of model.integrator (BackwardEuler, Bdf2 or ImplicitMidpoint) over model.dt, in
 // implicit_substeps(model, state) substeps; a substep whose Newton solve neither converged

@@ -20,6 +20,7 @@ struct Workspace {
   int cg_iterations = 0;
   int factorizations = 0;  // of the Cholesky or scalar preconditioner
   int substeps = 0;
+  int planned_substeps = 0;  // the substeps the last step was first tried with
   // The collision stage of the last step (cloth_contact.h) and its processor time, s.
   ContactStats contact;
   double contact_seconds = 0.0;

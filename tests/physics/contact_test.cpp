@@ -560,6 +560,82 @@ TEST(Substeps, ImpactsAreSplitAndRestIsNot) {
   EXPECT_GT(expected, 1);
 }
 
+// What the substeps' check measures: how far a vertex moved relative to its neighbours,
+// in edges. A translation moves none; a uniform stretch by 10% changes every edge by a
+// tenth of itself; a turn by theta about the sheet's normal by 2 sin(theta / 2).
+TEST(Substeps, RelativeMotionIsTheLargestChangeOfAnEdgeOverItsLength) {
+  Sheet s = cotton_sheet(0.3, 6, Integrator::BackwardEuler, 1.0 / 60.0);
+  const Vec3List& x0 = s.state.x;
+  Vec3List x1(x0.size());
+  for (size_t i = 0; i < x0.size(); ++i) x1[i] = x0[i] + Vec3(0.3, -0.2, 1.0);
+  EXPECT_NEAR(relative_motion(s.model, x0, x1), 0.0, 1e-12);
+  for (size_t i = 0; i < x0.size(); ++i) x1[i] = 1.1 * x0[i];
+  EXPECT_NEAR(relative_motion(s.model, x0, x1), 0.1, 1e-12);
+  const double theta = 0.3;
+  const Mat3 turn = Eigen::AngleAxisd(theta, Vec3::UnitZ()).toRotationMatrix();
+  for (size_t i = 0; i < x0.size(); ++i) x1[i] = turn * x0[i];
+  EXPECT_NEAR(relative_motion(s.model, x0, x1), 2.0 * std::sin(0.5 * theta), 1e-12);
+}
+
+// A sheet lying on a plane, thrown at it at 3 m/s, step after step: the prediction splits
+// each step (every vertex could close 0.1 m on the plane), but the plane stops the sheet
+// as a whole and no vertex moves far relative to its neighbours. Once a step has measured
+// that, each next one is planned with half the substeps of the last, down to one, and the
+// sheet still never ends inside the plane nor gains energy.
+TEST(Substeps, StepsAreTakenWholeWhenTheLastMovedLittleThoughThePredictionSplitsThem) {
+  Sheet s = cotton_sheet(0.3, 10, Integrator::BackwardEuler, 1.0 / 30.0);
+  const double thickness = 0.002;  // m
+  s.model.obstacles.push_back(plane(Vec3(0, 0, -thickness), Vec3::UnitZ(), 0.3, thickness));
+  Workspace ws;
+  int last = 0;
+  for (int k = 0; k < 6; ++k) {
+    SCOPED_TRACE(k);
+    for (Vec3& v : s.state.v) v = Vec3(0, 0, -3.0);
+    const int predicted = implicit_substeps(s.model, s.state);
+    ASSERT_GT(predicted, 1);
+    const double e0 = total_energy(s.model, s.state);
+    ASSERT_FALSE(step(s.model, s.state, ws));
+    EXPECT_EQ(ws.substeps, k == 0 ? predicted : std::max(1, (last + 1) / 2));
+    last = ws.substeps;
+    EXPECT_LE(total_energy(s.model, s.state), e0);
+    for (const Vec3& p : s.state.x) EXPECT_GE(p.z(), -1e-9);
+  }
+  EXPECT_EQ(last, 1);
+}
+
+// A hanging sheet, calm, then hit by a ball at 10 m/s: the ball's rim carries vertices on
+// while their neighbours outside it stay. A step planned with fewer substeps than the
+// prediction is kept only when none of them moved a vertex more than kMotionLimit of an
+// edge relative to its neighbours; the first step of the impact is not, and is taken
+// again in the substeps the prediction asks for.
+TEST(Substeps, AStepPlannedBelowThePredictionThatMovesTooMuchIsTakenAgain) {
+  Sheet s = sheet_in_a_balls_path(Integrator::BackwardEuler, 1.0 / 30.0, 10.0);
+  s.model.obstacles[0].center.y() = -0.8;  // m: it reaches the sheet in the third step
+  Workspace ws;
+  int kept_below = 0, retaken = 0;
+  for (int k = 0; k < 6; ++k) {  // 0.2 s: the ball passes the sheet's plane at 0.1 s
+    SCOPED_TRACE(k);
+    const int predicted = implicit_substeps(s.model, s.state);
+    const Vec3List x0 = s.state.x;
+    ASSERT_FALSE(step(s.model, s.state, ws));
+    if (ws.planned_substeps < predicted) {
+      if (ws.substeps == ws.planned_substeps) {
+        ++kept_below;
+        EXPECT_LE(relative_motion(s.model, x0, s.state.x), ws.substeps * kMotionLimit);
+      } else {
+        ++retaken;
+        EXPECT_GE(ws.substeps, predicted);
+      }
+    }
+    Vec3 n;
+    for (const Vec3& p : s.state.x) {
+      EXPECT_GE(s.model.obstacles[0].signed_distance(p, s.state.t, &n), 0.001 - 1e-9);
+    }
+  }
+  EXPECT_GT(kept_below, 0);
+  EXPECT_GT(retaken, 0);
+}
+
 // --- Divergence --------------------------------------------------------------------------
 
 // A state holding far more energy than the scene can supply is a divergence, even at
