@@ -1253,9 +1253,8 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
   const bool damped = model.integrator != Integrator::ImplicitMidpoint;
   // Never fewer than keep a vertex from passing an obstacle unseen: no check after the
   // substep could tell.
-  const int planned =
-      damped ? std::max(planned_substeps(s, predicted), passing_substeps(model, state))
-             : predicted;
+  const int planned = std::max(damped ? planned_substeps(s, predicted) : predicted,
+                               passing_substeps(model, state));
   // A step starts at no fewer substeps than the stage's energy rule needed in the last one,
   // so that it does not take again the long substeps that rule rejects while layers touch.
   const int stage_substeps = std::min(s.stage_substeps, kMaxSubsteps);

@@ -82,10 +82,11 @@ const ImplicitReport* last_implicit_report(const Workspace& ws);
 
 // Substeps: a step of model.dt is solved as n equal substeps so that no vertex moves more
 // than kSubstepMotion of an edge relative to its neighbours in one solve, where one Newton
-// iteration is no longer a good linearization (impacts, whipping): n = ceil(dt r /
-// kSubstepMotion), with r (1/s) the largest of |v_a - v_b| / |x_a - x_b| over the edges
-// and, for vertices that may reach an obstacle within the step, their approach speed over
-// the mean rest edge length; at most kMaxSubsteps.
+// iteration is no longer a good linearization (impacts, whipping). The prediction from the
+// start velocities: n = ceil(dt r / kSubstepMotion), with r (1/s) the largest of
+// |v_a - v_b| / |x_a - x_b| over the edges and, for vertices that may reach an obstacle
+// within the step (a moving one placed where it starts and where it ends the step), their
+// approach speed over the mean rest edge length; at most kMaxSubsteps.
 constexpr double kSubstepMotion = 0.5;
 constexpr int kMaxSubsteps = 16;
 int implicit_substeps(const Model& model, const State& state);
@@ -104,9 +105,13 @@ constexpr double kMotionLimit = 2.0 * kSubstepMotion;
 int passing_substeps(const Model& model, const State& state);
 
 // The step of model.integrator (BackwardEuler, Bdf2 or ImplicitMidpoint) over model.dt, in
-// implicit_substeps(model, state) substeps; a substep whose Newton solve neither converged
-// nor reduced its residual tenfold has the step taken again in twice as many substeps (up
-// to kMaxSubsteps). ws holds the totals over the substeps and attempts, and the count kept.
+// the substeps planned from the last step's motion (backward Euler, BDF-2) or predicted by
+// implicit_substeps (the midpoint rule), never fewer than passing_substeps nor than the
+// collision stage's energy rule last needed; a substep whose Newton solve neither
+// converged nor reduced its residual a hundredfold (tenfold without an energy gain, in a
+// scene nothing drives) has the step taken again in twice as many substeps (up to
+// kMaxSubsteps). ws holds the totals over the substeps and attempts, the count planned and
+// the count kept.
 void integrate_implicit(const Model& model, State& state, Workspace& ws);
 
 }  // namespace tissu
