@@ -41,12 +41,7 @@ double stiffness_step(const Model& model) {
 
 double barrier_distance(const Model& model) {
   if (model.implicit.barrier_distance > 0.0) return model.implicit.barrier_distance;
-  double edges = 0.0;  // m
-  for (const Tri& tri : model.triangles) {
-    for (int e = 0; e < 3; ++e) edges += (model.rest_uv[tri[e]] - model.rest_uv[tri[(e + 1) % 3]]).norm();
-  }
-  const double count = 3.0 * std::max(1, model.num_triangles());
-  return kBarrierEdgeFraction * edges / count;
+  return kBarrierEdgeFraction * mean_rest_edge(model);
 }
 
 double barrier_energy_of(const Model& model, const Vec3List& x, double t) {

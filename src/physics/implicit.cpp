@@ -983,18 +983,16 @@ const ImplicitReport& implicit_midpoint(const Model& model, State& state, Worksp
 
 namespace {
 
-// The largest approach speed, over length(obstacle) (m), of the vertices that may reach an
-// obstacle within the step, 1/s; obstacles of length 0 are skipped. A moving obstacle is
-// looked at where it starts the step as well as where it ends it: one that passes the
-// cloth within the step is, at its end, moving away from the vertices it passed.
-template <class Length>
-double approach_rate(const Model& model, const State& state, const Length& length) {
+// For each obstacle, the largest approach speed (m/s) of the vertices that may reach it
+// within the step (0: none). A moving obstacle is looked at where it starts the step as
+// well as where it ends it: one that passes the cloth within the step is, at its end,
+// moving away from the vertices it passed.
+std::vector<double> approach_speeds(const Model& model, const State& state) {
   const double h = model.dt;
   const double fall = model.gravity ? 0.5 * model.gravity->norm() * h * h : 0.0;  // m
-  double rate = 0.0;
-  for (const Obstacle& ob : model.obstacles) {
-    const double l = length(ob);
-    if (l <= 0.0) continue;
+  std::vector<double> speeds(model.obstacles.size(), 0.0);
+  for (size_t o = 0; o < model.obstacles.size(); ++o) {
+    const Obstacle& ob = model.obstacles[o];
     for (const double t : {state.t + h, state.t}) {
       const PlacedObstacle placed = place_obstacle(ob, t);
       for (int i = 0; i < model.num_vertices(); ++i) {
@@ -1002,12 +1000,12 @@ double approach_rate(const Model& model, const State& state, const Length& lengt
         const SurfacePoint p = placed.closest(state.x[i]);
         const double approach = -p.normal.dot(state.v[i] - p.velocity);  // m/s
         if (approach <= 0.0) continue;
-        if (p.distance - ob.thickness < approach * h + fall) rate = std::max(rate, approach / l);
+        if (p.distance - ob.thickness < approach * h + fall) speeds[o] = std::max(speeds[o], approach);
       }
       if (!ob.motion.moves()) break;
     }
   }
-  return rate;
+  return speeds;
 }
 
 int substeps_for(const Model& model, double rate) {
@@ -1015,18 +1013,17 @@ int substeps_for(const Model& model, double rate) {
   return static_cast<int>(std::clamp(substeps, 1.0, static_cast<double>(kMaxSubsteps)));
 }
 
-// The mean rest edge, m.
-double mean_rest_edge(const Model& model) {
-  double edges = 0.0;
-  for (const Tri& tri : model.triangles) {
-    for (int e = 0; e < 3; ++e) edges += (model.rest_uv[tri[e]] - model.rest_uv[tri[(e + 1) % 3]]).norm();
-  }
-  return model.num_triangles() > 0 ? edges / (3.0 * model.num_triangles()) : 0.0;
-}
+// The substeps implicit_substeps predicts, and the fewest that keep a vertex from passing
+// an obstacle within one unseen: those that let a vertex that may reach a sphere or
+// cylinder close at most kSubstepMotion of its radius on it per substep (a mesh obstacle:
+// of a mean rest edge, its parts may be thin). A plane bounds a half-space that no vertex
+// can pass without ending inside it.
+struct SubstepNeeds {
+  int predicted = 1;
+  int passing = 1;
+};
 
-}  // namespace
-
-int implicit_substeps(const Model& model, const State& state) {
+SubstepNeeds substep_needs(const Model& model, const State& state) {
   double rate = 0.0;  // 1/s: a speed relative to a length
   for (int k = 0; k < model.num_triangles(); ++k) {
     const Tri& tri = model.triangles[k];
@@ -1036,29 +1033,34 @@ int implicit_substeps(const Model& model, const State& state) {
       if (length > 0.0) rate = std::max(rate, (state.v[a] - state.v[b]).norm() / length);
     }
   }
-  // Vertices that may reach an obstacle within the step, by their approach speed.
-  if (!model.obstacles.empty()) {
-    const double edge = mean_rest_edge(model);
-    rate = std::max(rate, approach_rate(model, state, [edge](const Obstacle&) { return edge; }));
+  SubstepNeeds needs;
+  if (model.obstacles.empty()) {
+    needs.predicted = substeps_for(model, rate);
+    return needs;
   }
-  return substeps_for(model, rate);
+  // Vertices that may reach an obstacle within the step, by their approach speed over the
+  // mean rest edge; and for passing, over the obstacle's own size.
+  const double edge = mean_rest_edge(model);
+  const std::vector<double> speeds = approach_speeds(model, state);
+  double passing = 0.0;  // 1/s
+  for (size_t o = 0; o < speeds.size(); ++o) {
+    if (speeds[o] == 0.0) continue;
+    if (edge > 0.0) rate = std::max(rate, speeds[o] / edge);
+    const Obstacle& ob = model.obstacles[o];
+    const double size = ob.kind == ObstacleKind::Plane ? 0.0
+                        : ob.kind == ObstacleKind::Mesh ? edge
+                                                        : ob.radius;  // m
+    if (size > 0.0) passing = std::max(passing, speeds[o] / size);
+  }
+  needs.predicted = substeps_for(model, rate);
+  needs.passing = substeps_for(model, passing);
+  return needs;
 }
 
-int passing_substeps(const Model& model, const State& state) {
-  if (model.obstacles.empty()) return 1;
-  const double edge = mean_rest_edge(model);
-  auto length = [edge](const Obstacle& ob) {
-    switch (ob.kind) {
-      case ObstacleKind::Sphere:
-      case ObstacleKind::Cylinder:
-        return ob.radius;
-      case ObstacleKind::Plane:
-        return 0.0;
-      default:
-        return edge;
-    }
-  };
-  return substeps_for(model, approach_rate(model, state, length));
+}  // namespace
+
+int implicit_substeps(const Model& model, const State& state) {
+  return substep_needs(model, state).predicted;
 }
 
 double relative_motion(const Model& model, const Vec3List& x0, const Vec3List& x1) {
@@ -1246,7 +1248,8 @@ int planned_substeps(const ImplicitSolver& s, int predicted) {
 void integrate_implicit(const Model& model, State& state, Workspace& ws) {
   ImplicitSolver& s = solver_of(ws);
   const bool stage = needs_cloth_contact(model);
-  const int predicted = implicit_substeps(model, state);
+  const SubstepNeeds needs = substep_needs(model, state);
+  const int predicted = needs.predicted;
   // The midpoint rule does not damp the sheet's stiff modes (|R(inf)| = 1): velocities
   // that flip from step to step stay, and a step planned below the prediction was taken
   // again so often on the hard scenes that it took 1.07-1.51 times the Newton iterations.
@@ -1254,7 +1257,7 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
   // Never fewer than keep a vertex from passing an obstacle unseen: no check after the
   // substep could tell.
   const int planned = std::max(damped ? planned_substeps(s, predicted) : predicted,
-                               passing_substeps(model, state));
+                               needs.passing);
   // A step starts at no fewer substeps than the stage's energy rule needed in the last one,
   // so that it does not take again the long substeps that rule rejects while layers touch.
   const int stage_substeps = std::min(s.stage_substeps, kMaxSubsteps);

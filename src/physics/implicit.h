@@ -97,17 +97,11 @@ int implicit_substeps(const Model& model, const State& state);
 // is taken again with the substeps implicit_substeps asks for.
 double relative_motion(const Model& model, const Vec3List& x0, const Vec3List& x1);
 constexpr double kMotionLimit = 2.0 * kSubstepMotion;
-// The substeps below which a step is never planned, since a vertex could pass an obstacle
-// within one unseen: those that let a vertex that may reach a sphere or cylinder close at
-// most kSubstepMotion of its radius on it per substep (a mesh obstacle: of a mean rest
-// edge, its parts may be thin). A plane bounds a half-space that no vertex can pass
-// without ending inside it.
-int passing_substeps(const Model& model, const State& state);
 
 // The step of model.integrator (BackwardEuler, Bdf2 or ImplicitMidpoint) over model.dt, in
 // the substeps planned from the last step's motion (backward Euler, BDF-2) or predicted by
-// implicit_substeps (the midpoint rule), never fewer than passing_substeps nor than the
-// collision stage's energy rule last needed; a substep whose Newton solve neither
+// implicit_substeps (the midpoint rule), never fewer than keep a vertex from passing an
+// obstacle within one substep nor than the collision stage's energy rule last needed; a substep whose Newton solve neither
 // converged nor reduced its residual a hundredfold (tenfold without an energy gain, in a
 // scene nothing drives) has the step taken again in twice as many substeps (up to
 // kMaxSubsteps). ws holds the totals over the substeps and attempts, the count planned and

@@ -86,4 +86,12 @@ void precompute_rest(Model& model) {
       build_membrane_layout(model.triangles, model.rest, model.mesh_id));
 }
 
+double mean_rest_edge(const Model& model) {
+  double edges = 0.0;  // m
+  for (const Tri& tri : model.triangles) {
+    for (int e = 0; e < 3; ++e) edges += (model.rest_uv[tri[e]] - model.rest_uv[tri[(e + 1) % 3]]).norm();
+  }
+  return model.num_triangles() > 0 ? edges / (3.0 * model.num_triangles()) : 0.0;
+}
+
 }  // namespace tissu

@@ -182,4 +182,8 @@ struct State {
 // Throws InputError naming the triangle for degenerate rest triangles.
 void precompute_rest(Model& model);
 
+// The mean length of the triangles' rest sides (an inner edge counted once per triangle),
+// m; 0 without triangles.
+double mean_rest_edge(const Model& model);
+
 }  // namespace tissu
