@@ -613,7 +613,7 @@ TEST(Substeps, AStepPlannedBelowThePredictionThatMovesTooMuchIsTakenAgain) {
   s.model.obstacles[0].center.y() = -0.8;  // m: it reaches the sheet in the third step
   Workspace ws;
   int kept_below = 0, retaken = 0;
-  for (int k = 0; k < 6; ++k) {  // 0.2 s: the ball passes the sheet's plane at 0.1 s
+  for (int k = 0; k < 6; ++k) {  // 0.2 s: the ball's centre crosses the sheet's plane at 0.08 s
     SCOPED_TRACE(k);
     const int predicted = implicit_substeps(s.model, s.state);
     const Vec3List x0 = s.state.x;
