@@ -44,7 +44,8 @@ std::string end_message(const RunResult& result) {
 }  // namespace
 
 nlohmann::ordered_json tissu_identity() {
-  return {{"version", TISSU_VERSION}, {"git_commit", TISSU_GIT_COMMIT}};
+  return {{"version", TISSU_VERSION}, {"git_commit", TISSU_GIT_COMMIT},
+          {"git_modified", TISSU_GIT_MODIFIED}};
 }
 
 nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const RunResult& result) {
@@ -76,8 +77,7 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
                            {"readback", t.readback}, {"encode", t.encode}, {"encode_wait", t.encode_wait},
                            {"total", t.total}};
   report["ms_per_step"] = result.steps_done > 0 ? 1e3 * t.simulate / result.steps_done : 0.0;
-  if (model.integrator == Integrator::BackwardEuler || model.integrator == Integrator::Bdf2 ||
-      model.integrator == Integrator::ImplicitMidpoint) {
+  if (!is_explicit(model.integrator)) {
     report["newton_iterations"] = result.totals.newton_iterations;
     report["cg_iterations"] = result.totals.cg_iterations;
   }

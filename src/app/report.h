@@ -10,7 +10,8 @@
 
 namespace tissu {
 
-// {"version": project() VERSION, "git_commit": the commit configured from, or "unknown"}.
+// {"version": project() VERSION, "git_commit": the commit built, or "unknown" outside git,
+//  "git_modified": whether the tracked files differed from it when it was built}.
 nlohmann::ordered_json tissu_identity();
 
 nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const RunResult& result);

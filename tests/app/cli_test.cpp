@@ -521,6 +521,7 @@ TEST_F(Cli, ReportHoldsWhatReproducesTheRun) {
   EXPECT_TRUE(commit == "unknown" || (commit.size() == 40 &&
               commit.find_first_not_of("0123456789abcdef") == std::string::npos))
       << commit;
+  EXPECT_TRUE(report["tissu"]["git_modified"].is_boolean());
   EXPECT_EQ(report["command_line"],
             Json({TISSU_BINARY, "run", scene, "--out", out.string(), "--set", "steps=1050",
                   "--set", "cloth.material=cotton", "--quiet"}));
