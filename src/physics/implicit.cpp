@@ -901,14 +901,49 @@ double midpoint_contact_work(const Model& model, const State& start, const Vec3L
   return work;
 }
 
+// The energy balance of a step of length h from `start` at t to `end`, J: the energy at
+// each end (kinetic, elastic, gravity's and the barrier's) and the work supplied over the
+// step (the wind's along the straight path, and moving obstacles' through their contacts).
+// Those contacts' impulses include the barrier's (its force is not among compute_forces'
+// terms), so with a moving obstacle the barrier's energy stays out and its work is in.
+// Each rule adds the end's parts in its own order: another order can round differently.
+struct EnergyBalance {
+  double kinetic = 0.0, elastic = 0.0, barrier = 0.0;  // at the start
+  double start_energy = 0.0;  // at the start: those and gravity's
+  double end_energy = 0.0;    // at the end, all but the barrier's
+  double end_barrier = 0.0;   // at the end, the barrier's
+  double supplied = 0.0;      // over the step
+};
+
+EnergyBalance energy_balance(const Model& model, const State& start, const State& end, double h,
+                             double t, Workspace& ws) {
+  ImplicitSolver& s = solver_of(ws);
+  const bool moving = has_moving_obstacle(model);
+  const bool barrier = model.implicit.contact == ContactModel::Barrier && !moving;
+  EnergyBalance b;
+  b.barrier = barrier ? barrier_energy_of(model, start.x, t) : 0.0;
+  b.kinetic = kinetic_energy(model, start.v);
+  b.elastic = elastic_energy(model, start.x);
+  b.start_energy = b.kinetic + b.elastic + gravity_potential(model, start.x) + b.barrier;
+  if (model.wind || moving) {
+    const double t_mid = t + 0.5 * h;
+    midpoint_path(start.x, end.x, h, s.work_x, s.work_v);
+    if (model.wind) {
+      b.supplied += midpoint_wind_work(model, start.x, end.x, s.work_x, s.work_v, t_mid, s.work_f);
+    }
+    if (moving) {
+      b.supplied += midpoint_contact_work(model, start, end.x, s.work_x, s.work_v, h, t_mid, ws,
+                                          s.work_f);
+    }
+  }
+  b.end_energy = total_energy(model, end);
+  b.end_barrier = barrier ? barrier_energy_of(model, end.x, t + h) : 0.0;
+  return b;
+}
+
 void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, double h,
                             double t, int halvings = 0) {
   ImplicitSolver& s = solver_of(ws);
-  // A moving obstacle's work is measured through the contact impulses of the step's momentum
-  // balance, which include the barrier's (its force is not among compute_forces' terms); so
-  // with a moving obstacle the barrier's energy stays out of the balance, and its work is in.
-  const bool moving = has_moving_obstacle(model);
-  const bool barrier = model.implicit.contact == ContactModel::Barrier && !moving;
   const bool guard = s.kicks.empty() && halvings < kMaxMidpointHalvings;
   if (!guard) {
     midpoint_solve(model, state, ws, h, t);
@@ -916,29 +951,12 @@ void implicit_midpoint_step(const Model& model, State& state, Workspace& ws, dou
   }
   const State start = state;
   const ContactSet contacts = s.contacts;
-  auto barrier_energy = [&](const Vec3List& x, double time) {
-    return barrier ? barrier_energy_of(model, x, time) : 0.0;
-  };
-  const double barrier0 = barrier_energy(state.x, t);
-  const double kinetic0 = kinetic_energy(model, state.v), elastic0 = elastic_energy(model, state.x);
-  const double e0 = kinetic0 + elastic0 + gravity_potential(model, state.x) + barrier0;  // J
   midpoint_solve(model, state, ws, h, t);
-  double supplied = 0.0;  // J, the work of the wind and of moving obstacles
-  if (model.wind || moving) {
-    const double t_mid = t + 0.5 * h;
-    midpoint_path(start.x, state.x, h, s.work_x, s.work_v);
-    if (model.wind) {
-      supplied += midpoint_wind_work(model, start.x, state.x, s.work_x, s.work_v, t_mid, s.work_f);
-    }
-    if (moving) {
-      supplied += midpoint_contact_work(model, start, state.x, s.work_x, s.work_v, h, t_mid, ws,
-                                        s.work_f);
-    }
-  }
-  const double at_stake = kinetic0 + elastic0 + barrier0 + std::abs(supplied) +
+  const EnergyBalance b = energy_balance(model, start, state, h, t, ws);
+  const double at_stake = b.kinetic + b.elastic + b.barrier + std::abs(b.supplied) +
                           free_weight(model) * barrier_distance(model);  // J
-  const double e1 = total_energy(model, state) + barrier_energy(state.x, t + h) - supplied;
-  if (e1 <= e0 + kMidpointEnergySlack * at_stake) return;
+  const double e1 = b.end_energy + b.end_barrier - b.supplied;  // J, less the supplied work
+  if (e1 <= b.start_energy + kMidpointEnergySlack * at_stake) return;
   SolveCounts counts;  // the whole step's solve, discarded, and both halves'
   counts.add(ws);
   state = start;
@@ -1168,20 +1186,9 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   double gain = 0.0, slack = 0.0;  // J: the substep's energy gain, and what it may gain
   const bool guard = corrected && halvings < kMaxStageHalvings && !has_moving_obstacle(model);
   if (guard) {
-    const bool barrier = model.implicit.contact == ContactModel::Barrier;
-    const double kinetic = kinetic_energy(model, start.v), elastic = elastic_energy(model, start.x);
-    const double e0 = kinetic + elastic + gravity_potential(model, start.x) +
-                      (barrier ? barrier_energy_of(model, start.x, t) : 0.0);
-    double supplied = 0.0;  // J: the wind's work along the substep's straight path
-    if (model.wind) {
-      midpoint_path(start.x, state.x, h, s.work_x, s.work_v);
-      supplied = midpoint_wind_work(model, start.x, state.x, s.work_x, s.work_v, t + 0.5 * h,
-                                    s.work_f);
-    }
-    const double e1 = total_energy(model, state) - supplied +
-                      (barrier ? barrier_energy_of(model, state.x, t + h) : 0.0);
-    gain = e1 - e0;
-    slack = kMidpointEnergySlack * (kinetic + elastic + std::abs(supplied)) +
+    const EnergyBalance b = energy_balance(model, start, state, h, t, ws);
+    gain = b.end_energy - b.supplied + b.end_barrier - b.start_energy;
+    slack = kMidpointEnergySlack * (b.kinetic + b.elastic + std::abs(b.supplied)) +
             free_weight(model) * settled;
   }
   if (guard && gain > slack) {
