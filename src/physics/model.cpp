@@ -37,6 +37,11 @@ const char* integrator_name(Integrator integrator) {
   return "unknown";
 }
 
+bool is_explicit(Integrator integrator) {
+  return integrator == Integrator::ExplicitEuler || integrator == Integrator::SymplecticEuler ||
+         integrator == Integrator::BenameurDjedi;
+}
+
 const char* linear_solver_name(LinearSolver solver) {
   switch (solver) {
     case LinearSolver::Cholesky: return "cholesky";

@@ -123,6 +123,9 @@ enum class Integrator {
   ImplicitMidpoint, // implicit midpoint rule, Newton + PCG
 };
 const char* integrator_name(Integrator integrator);
+// Explicit Euler, symplectic Euler and the paper's scheme: no solve, a step below the
+// stability limit.
+bool is_explicit(Integrator integrator);
 
 struct Model {
   // Mesh (V vertices, T triangles).

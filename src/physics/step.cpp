@@ -20,11 +20,6 @@ namespace tissu {
 
 namespace {
 
-bool is_explicit(Integrator integrator) {
-  return integrator == Integrator::ExplicitEuler || integrator == Integrator::SymplecticEuler ||
-         integrator == Integrator::BenameurDjedi;
-}
-
 // Section 3, as printed: halve the displacement of a vertex up to n_it times while it is
 // longer than the threshold; if the last measured displacement exceeded the threshold,
 // recompute the velocity from the corrected displacement.
