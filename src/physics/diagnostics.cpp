@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "collision/closed_surface.h"
 #include "physics/bending.h"
 #include "physics/membrane.h"
 
@@ -65,7 +66,24 @@ double max_obstacle_speed(const Obstacle& obstacle) {
   const ObstacleMotion& m = obstacle.motion;
   double speed = m.velocity.norm();
   if (m.period > 0.0) speed += m.amplitude.norm() * 2.0 * M_PI / m.period;
-  return speed;
+  if (m.keyframes.size() < 2) return speed;
+  // Keyframes: the fastest segment, whose turn carries the surface point farthest from the
+  // centre (meshes turn; the other obstacles only move).
+  double reach = 0.0;  // m
+  if (obstacle.surface) {
+    for (const Vec3& p : obstacle.surface->vertices()) {
+      reach = std::max(reach, (p - obstacle.center).norm());
+    }
+  }
+  double fastest = 0.0;  // m/s
+  for (size_t k = 1; k < m.keyframes.size(); ++k) {
+    const Keyframe& a = m.keyframes[k - 1];
+    const Keyframe& b = m.keyframes[k];
+    const double span = b.time - a.time;  // s, > 0 (validated with the scene)
+    const double turn = obstacle.surface ? a.rotation.angularDistance(b.rotation) : 0.0;
+    fastest = std::max(fastest, ((b.translation - a.translation).norm() + turn * reach) / span);
+  }
+  return speed + fastest;
 }
 
 double energy_scale(const Model& model, const State& start) {

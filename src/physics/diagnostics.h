@@ -29,7 +29,8 @@ double total_energy(const Model& model, const State& state);
 // Sum of the lumped masses, kg.
 double total_mass(const Model& model);
 
-// Largest speed an obstacle reaches, m/s (|drift| + |amplitude| 2 pi / period).
+// Largest speed an obstacle's surface reaches, m/s: |drift| + |amplitude| 2 pi / period,
+// plus its fastest keyframe segment (translation, and a mesh's turn times its reach).
 double max_obstacle_speed(const Obstacle& obstacle);
 
 // The energy a run may reasonably gain over its duration, J: the work gravity can do over the

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "collision/closed_surface.h"
+#include "collision/test_surfaces.h"
 #include "study/metrics.h"
 
 namespace tissu {
@@ -110,6 +112,38 @@ TEST(EnergyScale, GravityWorkOverTheClothSizePlusDrivers) {
   const double v = 3.0 + 0.1 * 2 * M_PI / 0.5;
   EXPECT_NEAR(max_obstacle_speed(ob), v, 1e-12);
   EXPECT_NEAR(energy_scale(m, s), 0.3 * 10 * std::sqrt(5.0) + 0.5 * 0.3 * 4 * v * v, 1e-12);
+}
+
+// Keyframed motion supplies energy too: a sphere lifted 0.1 m in 1 s once counted as still,
+// and a run that it lifted was reported as diverged. A segment moves at its translation over
+// its duration, and a mesh's turn moves its farthest point at the angle over the duration
+// times that distance.
+TEST(EnergyScale, KeyframedObstacleMovesAtItsFastestSegment) {
+  Obstacle ball;
+  ball.radius = 0.1;
+  Keyframe rest, lifted, held;
+  lifted.time = 1.0;
+  lifted.translation = Vec3(0, 0, 0.1);
+  held.time = 1.5;
+  held.translation = Vec3(0, 0, 0.1);
+  ball.motion.keyframes = {rest, lifted, held};
+  EXPECT_NEAR(max_obstacle_speed(ball), 0.1, 1e-12);
+  Obstacle drifting = ball;
+  drifting.motion.keyframes.clear();
+  drifting.motion.velocity = Vec3(0, 0, 0.1);
+  EXPECT_NEAR(max_obstacle_speed(drifting), max_obstacle_speed(ball), 1e-12);
+
+  // A unit cube turned a quarter turn about z in 0.5 s: its corners, sqrt(3)/2 m from the
+  // centre, move at (pi/2) (sqrt(3)/2) / 0.5 m/s.
+  const testing::SurfaceData cube = testing::box_surface(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5));
+  Obstacle box;
+  box.kind = ObstacleKind::Mesh;
+  box.surface = std::make_shared<const ClosedSurface>(cube.vertices, cube.triangles, "cube");
+  Keyframe start, turned;
+  turned.time = 0.5;
+  turned.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()));
+  box.motion.keyframes = {start, turned};
+  EXPECT_NEAR(max_obstacle_speed(box), (M_PI / 2) * (std::sqrt(3.0) / 2) / 0.5, 1e-12);
 }
 
 }  // namespace
