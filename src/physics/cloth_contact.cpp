@@ -154,6 +154,7 @@ struct ClothContact::Impl {
     int obstacle = -1;
     const ClosedSurface* surface = nullptr;
     std::vector<int> kinematic_of;  // (surface vertices) point id - V, or -1
+    Vec3List vertex_normals;        // (surface vertices) outward unit normals, t = 0
     Vec3 built_center;              // placement when the lists were built
     Mat3 built_rotation;
     double margin = 0.0;            // m, how far it may move before a rebuild
@@ -271,6 +272,7 @@ struct ClothContact::Impl {
   }
   void add_mesh_pairs(MeshFeatures& mesh, double reach);
   int kinematic_point(MeshFeatures& mesh, int mesh_index, int vertex);
+  Vec3 obstacle_normal(const Pair& pair) const;
   void select_active();
   void start_schedule();
   void wait(int pair, double a, double b);
@@ -338,6 +340,13 @@ void ClothContact::Impl::prepare_topology(const Model& m) {
     f.obstacle = static_cast<int>(o);
     f.surface = m.obstacles[o].surface.get();
     f.kinematic_of.assign(f.surface->vertices().size(), -1);
+    f.vertex_normals.assign(f.surface->vertices().size(), Vec3::Zero());
+    for (size_t t = 0; t < f.surface->triangles().size(); ++t) {
+      for (int corner : f.surface->triangles()[t]) {
+        f.vertex_normals[corner] += f.surface->face_normals()[t];
+      }
+    }
+    for (Vec3& n : f.vertex_normals) n.normalize();
     meshes.push_back(std::move(f));
   }
 }
@@ -439,6 +448,19 @@ int ClothContact::Impl::kinematic_point(MeshFeatures& mesh, int mesh_index, int 
     k1.push_back(mesh.center1 + mesh.rotation1 * local);
   }
   return V + k;
+}
+
+// The outward normal of an obstacle pair's surface feature at the step's start: the
+// vertex normal of an obstacle vertex, the mean of an obstacle edge's two ends'.
+Vec3 ClothContact::Impl::obstacle_normal(const Pair& pair) const {
+  Vec3 n = Vec3::Zero();
+  for (int id : pair.p) {
+    if (id < V) continue;
+    const int k = id - V;
+    const MeshFeatures& f = meshes[kinematic_mesh[k]];
+    n += f.rotation0 * f.vertex_normals[kinematic_vertex[k]];
+  }
+  return n.normalized();
 }
 
 void ClothContact::Impl::rebuild() {
@@ -886,7 +908,19 @@ void ClothContact::Impl::proximity(ContactStats& stats) {
     // How close the pair may come by the end of the step: at most to the thickness, and
     // if already closer, a tenth of the way back out.
     const double shortfall = pair.thickness - c.distance;
-    const Vec3 n = c.gap / c.distance;
+    Vec3 n = c.gap / c.distance;
+    if (pair.obstacle >= 0) {
+      // An obstacle's feature: the integrator keeps the cloth's vertices at the thickness
+      // from its surface, and this pushes the cloth between them out along the surface's
+      // normal, only once within the thickness. Cloth sliding over a moving obstacle near
+      // its feature is then no approach, which the closest points' direction, leaning
+      // along the surface, would make it (docs/implicit.md, "A moving mesh obstacle").
+      if (shortfall <= 0.0) continue;
+      // gap runs from the second primitive to the first: toward the obstacle's vertex
+      // (vertex-triangle pairs), away from the obstacle's edge (edge-edge pairs).
+      const Vec3 out = obstacle_normal(pair);
+      n = pair.edge_edge ? out : Vec3(-out);
+    }
     Vec3 relative = Vec3::Zero();
     for (int k = 0; k < 4; ++k) {
       if (pair.p[k] < V) {
