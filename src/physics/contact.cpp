@@ -213,6 +213,9 @@ int ContactSet::switch_modes() {
 }
 
 void ContactSet::remember(const Vec3List& v, const std::vector<double>& release, double beta) {
+  std::vector<double>& last_speed = last_sliding_speed_;  // m/s, per vertex
+  last_speed.resize(memory_.size());
+  for (size_t i = 0; i < memory_.size(); ++i) last_speed[i] = memory_[i].sliding_speed;
   for (Memory& m : memory_) m = Memory{};
   for (const VertexContact& c : contacts_) {
     Memory& m = memory_[c.vertex];
@@ -221,14 +224,19 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release,
       continue;
     }
     m.in_contact = true;
-    // Still sliding (without friction, or using more than half of its friction mu J_n): it
-    // slides on; stopped by its friction with half of it to spare: it sticks. The margin
-    // keeps a contact that needs nearly mu J_n from switching mode at every step.
-    constexpr double kStickSpeed = (1.0 - 1.0 / M_SQRT2) * kSlidingSpeed;  // f1 = 1/2, m/s
-    if (c.mode == ContactMode::Slide &&
-        (c.friction == 0.0 || friction_of(c).sliding(v[c.vertex]).norm() >= kStickSpeed)) {
+    if (c.mode != ContactMode::Slide) continue;
+    // A sliding contact slides on while it is fast (its friction at full strength, mu J_n),
+    // gaining speed, or just let go by a stick that needed more than mu J_n in this step.
+    // Otherwise its smoothed friction, less than mu J_n, holds the load: Coulomb's law
+    // sticks it, where sliding on would creep at that speed forever (a sheet on an incline
+    // with friction above tan(a)). A margin of a hundredth of that speed per step keeps
+    // rounding from reading as a gain.
+    const double speed = c.friction == 0.0 ? INFINITY : friction_of(c).sliding(v[c.vertex]).norm();
+    const bool gaining = speed > last_speed[c.vertex] + 0.01 * kSlidingSpeed;
+    if (speed >= kSlidingSpeed || gaining || c.switched) {
       m.mode = ContactMode::Slide;
       m.friction_force = c.friction * c.normal_impulse / beta;
+      m.sliding_speed = speed;
     }
   }
 }

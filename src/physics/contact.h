@@ -146,8 +146,10 @@ class ContactSet {
     bool released = false;  // pulled at the end of the last step: not caught unless inside
     ContactMode mode = ContactMode::Stick;
     double friction_force = 0.0;  // mu J_n / beta while sliding, N
+    double sliding_speed = INFINITY;  // m/s at the end of the step, while sliding
   };
   std::vector<Memory> memory_;
+  std::vector<double> last_sliding_speed_;  // remember's scratch
 };
 
 }  // namespace tissu

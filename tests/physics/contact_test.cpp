@@ -250,6 +250,35 @@ TEST(Contact, InclineWithFrictionAboveTanASticks) {
   EXPECT_EQ(last_implicit_report(ws)->stuck_contacts, in.sheet.model.num_vertices());
 }
 
+// The same sheet dropped a millimetre onto the incline, with the constraints at 1/60 s: it
+// lands sliding, and slows until its smoothed friction, below mu J_n under eps, holds it.
+// There Coulomb's law sticks it. Sliding on, it crept down at that speed for good (0.48
+// mm/s at 20 degrees with mu = 0.5). Friction just below tan(a) must still let it slide
+// and gain speed at g (sin a - mu cos a).
+TEST(Contact, InclineDroppedOntoWithFrictionAboveTanASticksAfterLanding) {
+  const double degrees = 20.0, h = 1.0 / 60.0, a = degrees * M_PI / 180.0;
+  for (double ratio : {0.73, 0.98, 1.01}) {  // tan(a) / mu
+    Incline in = sheet_on_incline(degrees, std::tan(a) / ratio, h);
+    for (Vec3& p : in.sheet.state.x) p += 0.001 * in.sheet.model.obstacles[0].axis;
+    Workspace ws;
+    for (int k = 0; k < 30; ++k) ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));  // 0.5 s
+    const Vec3List settled = in.sheet.state.x;
+    const int steps = 60;
+    for (int k = 0; k < steps; ++k) ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+    double travel = 0.0;  // m down the slope over the last second, the sheet's mean
+    for (size_t i = 0; i < settled.size(); ++i) {
+      travel += (in.sheet.state.x[i] - settled[i]).dot(in.down_slope) / settled.size();
+    }
+    if (ratio < 1.0) {
+      EXPECT_LT(std::fabs(travel), 1e-9) << "tan(a) / mu = " << ratio;
+    } else {
+      // At least half of what the acceleration alone gives over the second, from rest.
+      const double accel = kG * (std::sin(a) - std::tan(a) / ratio * std::cos(a));  // m/s^2
+      EXPECT_GT(travel, 0.5 * 0.5 * accel * 1.0) << "tan(a) / mu = " << ratio;
+    }
+  }
+}
+
 // The barrier model (barrier_contact.h) with friction above tan(a) holds the sheet by
 // sliding slower than eps = kSlidingSpeed: its smoothed friction reaches Coulomb's mu J_n at
 // eps, and the sheet needs tan(a) / mu of it, so once the lagged normal force is the
