@@ -3,6 +3,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "scene/resolved_scene.h"
@@ -43,18 +44,84 @@ std::string parse_reason(const std::string& what) {
 
 // nlohmann's DOM builder that keeps the byte offset and message of the first error instead
 // of throwing: a number too large for a double ("1e999") is an out_of_range exception that
-// carries no position, unlike syntax errors.
+// carries no position, unlike syntax errors. It also stops at a key given twice in one
+// object, which JSON parsers otherwise settle silently by keeping the last value, and
+// names its place (`duplicate`: "cloth.mesh.triangles").
 class LocatingParser : public nlohmann::detail::json_sax_dom_parser<Json> {
+  using Base = nlohmann::detail::json_sax_dom_parser<Json>;
+
  public:
-  explicit LocatingParser(Json& root) : json_sax_dom_parser(root, /*allow_exceptions=*/false) {}
+  explicit LocatingParser(Json& root) : Base(root, /*allow_exceptions=*/false) {}
   template <class Exception>
   bool parse_error(std::size_t position, const std::string& /*token*/, const Exception& error) {
     error_position = position;
     error_message = error.what();
     return false;
   }
+  bool start_object(std::size_t len) {
+    open(false);
+    return Base::start_object(len);
+  }
+  bool start_array(std::size_t len) {
+    open(true);
+    return Base::start_array(len);
+  }
+  bool end_object() {
+    containers_.pop_back();
+    return Base::end_object();
+  }
+  bool end_array() {
+    containers_.pop_back();
+    return Base::end_array();
+  }
+  bool key(std::string& name) {
+    Container& c = containers_.back();
+    if (!c.keys.insert(name).second) {
+      duplicate = c.path.empty() ? name : c.path + "." + name;
+      return false;
+    }
+    c.next = name;
+    return Base::key(name);
+  }
+  bool null() { return element() && Base::null(); }
+  bool boolean(bool b) { return element() && Base::boolean(b); }
+  bool number_integer(std::int64_t n) { return element() && Base::number_integer(n); }
+  bool number_unsigned(std::uint64_t n) { return element() && Base::number_unsigned(n); }
+  bool number_float(double x, const std::string& text) {
+    return element() && Base::number_float(x, text);
+  }
+  bool string(std::string& text) { return element() && Base::string(text); }
+
   std::size_t error_position = 0;
   std::string error_message;
+  std::string duplicate;  // the path of a key given twice, or empty
+
+ private:
+  struct Container {
+    bool array = false;
+    std::string path;              // "cloth.mesh", "obstacles[1]"
+    std::set<std::string> keys;    // an object's keys so far
+    std::string next;              // an object's key of the value to come
+    int index = -1;                // an array's element so far
+  };
+  // A value inside the current container: an array counts it, an object has named it.
+  std::string child_path() {
+    if (containers_.empty()) return "";
+    Container& c = containers_.back();
+    if (c.array) return c.path + "[" + std::to_string(++c.index) + "]";
+    return c.path.empty() ? c.next : c.path + "." + c.next;
+  }
+  void open(bool array) {
+    Container c;
+    c.array = array;
+    c.path = child_path();
+    containers_.push_back(std::move(c));
+  }
+  bool element() {
+    child_path();
+    return true;
+  }
+  std::vector<Container> containers_;
 };
 
 // ": NaN and Infinity ..." when the JSON error is at a NaN or Infinity literal, which
@@ -94,6 +161,10 @@ Json read_scene_json(const std::string& file) {
   LocatingParser parser(doc);
   if (!Json::sax_parse(text, &parser, Json::input_format_t::json, /*strict=*/true,
                        /*ignore_comments=*/true)) {
+    if (!parser.duplicate.empty()) {
+      throw InputError(file + ": " + parser.duplicate + ": given twice (each key of an "
+                       "object once)");
+    }
     const size_t byte = parser.error_position;
     const auto [line, column] = line_column(text, byte > 0 ? byte - 1 : 0);
     throw InputError(file + ":" + std::to_string(line) + ":" + std::to_string(column) +

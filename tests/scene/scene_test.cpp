@@ -283,6 +283,21 @@ TEST_F(SceneFiles, SyntaxErrorNamesLineAndColumn) {
   EXPECT_EQ(e.substr(0, path.size() + 20), path + ":3:9: not valid JSON");
 }
 
+// JSON parsers keep the last of a key given twice; a scene names it instead, with its place,
+// since either value may be the one the user meant.
+TEST_F(SceneFiles, KeyGivenTwiceIsNamedWithItsPlace) {
+  std::string text = kValid;
+  text.insert(text.find('{') + 1, "\"dt\": 0.5,");
+  const std::string top = write("top.json", text);
+  EXPECT_EQ(error_of([&] { load_scene(top); }),
+            top + ": dt: given twice (each key of an object once)");
+  const std::string nested = write(
+      "nested.json", "{\"name\": \"x\", \"obstacles\": [{\"sphere\": {}}, "
+                     "{\"plane\": {\"friction\": 0.1, \"point\": [0, 0, 0], \"friction\": 0.2}}]}");
+  EXPECT_EQ(error_of([&] { load_scene(nested); }),
+            nested + ": obstacles[1].plane.friction: given twice (each key of an object once)");
+}
+
 TEST_F(SceneFiles, TruncatedFile) {
   const std::string path = write("cut.json", std::string(kValid).substr(0, 80));
   EXPECT_NE(error_of([&] { load_scene(path); }).find(": not valid JSON"), std::string::npos);
