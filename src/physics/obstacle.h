@@ -38,6 +38,11 @@ struct ObstacleMotion {
   }
 };
 
+// The least distance a mesh obstacle keeps cloth from its surface, m. At a thickness of 0
+// a vertex laid on a flat part of the surface ends a step on it, and rounding puts it on
+// either side: cloth resting on a mesh crossed it at 3e-10 m in most frames.
+constexpr double kMeshThicknessFloor = 1e-6;
+
 struct Obstacle {
   ObstacleKind kind = ObstacleKind::Sphere;
   Vec3 center = Vec3::Zero();  // sphere/cylinder centre, or a point of the plane, at t = 0 (m)

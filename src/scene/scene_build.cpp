@@ -1,5 +1,6 @@
 // Scene -> Model + initial State.
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include <iostream>
@@ -196,7 +197,9 @@ Simulation build(const Scene& scene) {
   model.position_correction = scene.position_correction;
   model.obstacles = scene.obstacles;
   for (const ObstacleMeshSpec& spec : scene.obstacle_meshes) {
-    load_obstacle_surface(spec, model.obstacles[spec.obstacle]);
+    Obstacle& ob = model.obstacles[spec.obstacle];
+    load_obstacle_surface(spec, ob);
+    ob.thickness = std::max(ob.thickness, kMeshThicknessFloor);
   }
   model.self_collision = scene.self_collision;
 
