@@ -83,14 +83,30 @@ class LocatingParser : public nlohmann::detail::json_sax_dom_parser<Json> {
     c.next = name;
     return Base::key(name);
   }
-  bool null() { return element() && Base::null(); }
-  bool boolean(bool b) { return element() && Base::boolean(b); }
-  bool number_integer(std::int64_t n) { return element() && Base::number_integer(n); }
-  bool number_unsigned(std::uint64_t n) { return element() && Base::number_unsigned(n); }
-  bool number_float(double x, const std::string& text) {
-    return element() && Base::number_float(x, text);
+  bool null() {
+    element();
+    return Base::null();
   }
-  bool string(std::string& text) { return element() && Base::string(text); }
+  bool boolean(bool b) {
+    element();
+    return Base::boolean(b);
+  }
+  bool number_integer(std::int64_t n) {
+    element();
+    return Base::number_integer(n);
+  }
+  bool number_unsigned(std::uint64_t n) {
+    element();
+    return Base::number_unsigned(n);
+  }
+  bool number_float(double x, const std::string& text) {
+    element();
+    return Base::number_float(x, text);
+  }
+  bool string(std::string& text) {
+    element();
+    return Base::string(text);
+  }
 
   std::size_t error_position = 0;
   std::string error_message;
@@ -104,22 +120,22 @@ class LocatingParser : public nlohmann::detail::json_sax_dom_parser<Json> {
     std::string next;              // an object's key of the value to come
     int index = -1;                // an array's element so far
   };
-  // A value inside the current container: an array counts it, an object has named it.
-  std::string child_path() {
-    if (containers_.empty()) return "";
-    Container& c = containers_.back();
-    if (c.array) return c.path + "[" + std::to_string(++c.index) + "]";
-    return c.path.empty() ? c.next : c.path + "." + c.next;
+  // A value inside the current container: an array counts it (an object has named it).
+  void element() {
+    if (!containers_.empty() && containers_.back().array) ++containers_.back().index;
   }
+  // An object or array opens: its path is only spelled out here, for the error message.
   void open(bool array) {
+    element();
     Container c;
     c.array = array;
-    c.path = child_path();
+    if (!containers_.empty()) {
+      const Container& parent = containers_.back();
+      c.path = parent.array ? parent.path + "[" + std::to_string(parent.index) + "]"
+               : parent.path.empty() ? parent.next
+                                     : parent.path + "." + parent.next;
+    }
     containers_.push_back(std::move(c));
-  }
-  bool element() {
-    child_path();
-    return true;
   }
   std::vector<Container> containers_;
 };
