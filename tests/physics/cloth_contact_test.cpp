@@ -512,7 +512,7 @@ double push_curtain(bool mesh_ball, double* closest, bool* crossed) {
     }
     if (mesh_ball) {
       Vec3List placed = surface.vertices;
-      for (Vec3& p : placed) p += m.obstacles[0].offset(st.t);
+      for (Vec3& p : placed) p = m.obstacles[0].carried(p, st.t);
       *crossed = *crossed || crossings_between(st.x, m.triangles, placed, surface.triangles, 1).any();
     }
   }
