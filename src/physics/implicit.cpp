@@ -105,16 +105,19 @@ struct StepEquation {
   double warm_scale = 1.0;
 };
 
-// A moving obstacle can put energy into the cloth through its contacts.
-bool has_moving_obstacle(const Model& model) {
+// An obstacle that moves within [t0, t1] (s) can put energy into the cloth through its
+// contacts over that time.
+bool has_moving_obstacle(const Model& model, double t0, double t1) {
   for (const Obstacle& ob : model.obstacles) {
-    if (ob.motion.moves()) return true;
+    if (ob.motion.moves_between(t0, t1)) return true;
   }
   return false;
 }
 
-// Wind or a moving obstacle can put energy into the cloth.
-bool supplies_energy(const Model& model) { return model.wind || has_moving_obstacle(model); }
+// Wind or an obstacle moving within [t0, t1] can put energy into the cloth.
+bool supplies_energy(const Model& model, double t0, double t1) {
+  return model.wind || has_moving_obstacle(model, t0, t1);
+}
 
 // The mass of the vertices that are not pinned, kg.
 double free_mass(const Model& model) {
@@ -918,7 +921,7 @@ struct EnergyBalance {
 EnergyBalance energy_balance(const Model& model, const State& start, const State& end, double h,
                              double t, Workspace& ws) {
   ImplicitSolver& s = solver_of(ws);
-  const bool moving = has_moving_obstacle(model);
+  const bool moving = has_moving_obstacle(model, t, t + h);
   const bool barrier = model.implicit.contact == ContactModel::Barrier && !moving;
   EnergyBalance b;
   b.barrier = barrier ? barrier_energy_of(model, start.x, t) : 0.0;
@@ -1184,7 +1187,8 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   }
   s.kicks.clear();
   double gain = 0.0, slack = 0.0;  // J: the substep's energy gain, and what it may gain
-  const bool guard = corrected && halvings < kMaxStageHalvings && !has_moving_obstacle(model);
+  const bool guard =
+      corrected && halvings < kMaxStageHalvings && !has_moving_obstacle(model, t, t + h);
   if (guard) {
     const EnergyBalance b = energy_balance(model, start, state, h, t, ws);
     gain = b.end_energy - b.supplied + b.end_barrier - b.start_energy;
@@ -1224,12 +1228,14 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
 constexpr double kRetryReduction = 0.01;
 constexpr double kLooseReduction = 0.1;
 
-// Whether the substep just solved (report r) from positions x0 and velocities v0 is kept.
+// Whether the substep just solved (report r) over [t0, t1] (s) from positions x0 and
+// velocities v0 is kept.
 // The energies are evaluated only for a substep that needs the energy rule.
 bool keep_substep(const Model& model, const State& state, const ImplicitReport& r,
-                  const Vec3List& x0, const Vec3List& v0) {
+                  const Vec3List& x0, const Vec3List& v0, double t0, double t1) {
   if (r.converged || r.final_residual <= kRetryReduction * r.initial_residual) return true;
-  if (r.final_residual > kLooseReduction * r.initial_residual || supplies_energy(model)) {
+  if (r.final_residual > kLooseReduction * r.initial_residual ||
+      supplies_energy(model, t0, t1)) {
     return false;
   }
   const double e_start =
@@ -1295,7 +1301,8 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
       const double motion = relative_motion(model, s.x_substep, state.x);
       step_motion += motion;
       kept = kept && (!checked || motion <= kMotionLimit) &&
-             keep_substep(model, state, s.report, s.x_substep, s.v_substep);
+             keep_substep(model, state, s.report, s.x_substep, s.v_substep, state.t + k * h,
+                          state.t + (k + 1) * h);
     }
     if (kept || last_try) break;
     state = start;

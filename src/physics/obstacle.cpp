@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "collision/closed_surface.h"
 
@@ -33,6 +34,24 @@ Vec3 turn_between(const Keyframe& a, const Keyframe& b) {
 }
 
 }  // namespace
+
+bool ObstacleMotion::moves_between(double t0, double t1) const {
+  if (!velocity.isZero() || (period > 0.0 && !amplitude.isZero())) return true;
+  for (size_t k = 0; k + 1 < keyframes.size(); ++k) {
+    const Keyframe& a = keyframes[k];
+    const Keyframe& b = keyframes[k + 1];
+    if (b.time <= t0 || a.time >= t1) continue;
+    const bool turns = a.rotation.coeffs() != b.rotation.coeffs() &&
+                       a.rotation.coeffs() != -b.rotation.coeffs();
+    if (a.translation != b.translation || turns) return true;
+  }
+  return false;
+}
+
+bool ObstacleMotion::moves() const {
+  const double always = std::numeric_limits<double>::infinity();
+  return moves_between(-always, always);
+}
 
 Vec3 Obstacle::offset(double t) const {
   Vec3 o = motion.velocity * t;

@@ -33,9 +33,10 @@ struct ObstacleMotion {
   Vec3 amplitude = Vec3::Zero();  // m, periodic displacement amplitude
   double period = 0.0;            // s; 0 = no periodic part
   std::vector<Keyframe> keyframes;  // ascending times; empty = none
-  bool moves() const {
-    return !velocity.isZero() || (period > 0 && !amplitude.isZero()) || !keyframes.empty();
-  }
+  // Whether the pose changes at some time, and whether it changes within [t0, t1] (s).
+  // Keyframes that all hold one pose do not move the obstacle.
+  bool moves() const;
+  bool moves_between(double t0, double t1) const;
 };
 
 // The least distance a mesh obstacle keeps cloth from its surface, m. At a thickness of 0

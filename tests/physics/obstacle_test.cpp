@@ -229,6 +229,38 @@ TEST(MeshObstacle, KeyframedBoxTurnsAndMoves) {
 // Dropped from several heights with several frictions, so that the cloth meets the box's
 // edges and corners in different ways: the collision stage's impulses at the edges must
 // not leave a vertex inside (from 0.1 m with friction 0.6 one ended 2.2e-6 m inside).
+// Motion is judged by the pose: keyframes that repeat one pose do not move an obstacle,
+// and a keyframed one moves only between keyframes whose poses differ.
+TEST(ObstacleMotion, MovesOnlyWhereThePoseChanges) {
+  ObstacleMotion m;
+  EXPECT_FALSE(m.moves());
+  Keyframe a, b, c;
+  b.time = 1.0;
+  c.time = 2.0;
+  m.keyframes = {a, b};
+  EXPECT_FALSE(m.moves());
+  b.rotation = Eigen::Quaterniond(-1.0, 0.0, 0.0, 0.0);  // the same pose, written as -q
+  m.keyframes = {a, b};
+  EXPECT_FALSE(m.moves());
+  c.translation = Vec3(0.0, 0.0, 0.1);
+  m.keyframes = {a, b, c};
+  EXPECT_TRUE(m.moves());
+  EXPECT_FALSE(m.moves_between(0.0, 1.0));
+  EXPECT_TRUE(m.moves_between(0.9, 1.1));
+  EXPECT_FALSE(m.moves_between(2.0, 3.0));
+  c.translation = Vec3::Zero();
+  c.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Vec3::UnitZ()));
+  m.keyframes = {a, b, c};
+  EXPECT_TRUE(m.moves_between(1.5, 1.6));
+  m.keyframes.clear();
+  m.period = 1.0;
+  m.amplitude = Vec3(0.1, 0.0, 0.0);
+  EXPECT_TRUE(m.moves_between(5.0, 5.1));
+  m = ObstacleMotion{};
+  m.velocity = Vec3(0.0, 0.0, 1e-3);
+  EXPECT_TRUE(m.moves());
+}
+
 TEST(MeshObstacle, NoVertexInsideAMeshBox) {
   for (double height : {0.05, 0.1, 0.13}) {
     for (double friction : {0.3, 0.6}) {
