@@ -175,6 +175,20 @@ TEST_F(BadInput, ObstaclesWithZeroOrNegativeSize) {
                                         ": obstacles[0].plane.normal: must not be the zero vector");
 }
 
+// A cloth that starts inside an obstacle is named with the obstacle, the deepest vertex and
+// its depth; before, the first step threw it out and the run was reported as diverged. A
+// cloth laid exactly on a surface starts outside it.
+TEST_F(BadInput, ClothStartsInsideAnObstacle) {
+  Json scene = small_scene();
+  scene["obstacles"] = Json::parse(R"([{"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}},
+                                        {"sphere": {"center": [0, 0, 0.05], "radius": 0.1}}])");
+  EXPECT_BAD_INPUT(run_json(scene), path("scene.json") + ": obstacles[1].sphere: cloth vertex ",
+                   " starts 0.05 m inside it");
+  scene["obstacles"].erase(1);
+  const Outcome on_plane = run_json(scene);
+  EXPECT_EQ(on_plane.exit_code, 0) << on_plane.err;
+}
+
 TEST_F(BadInput, SetPathThatDoesNotExist) {
   const std::string scene = write("scene.json", small_scene().dump());
   EXPECT_BAD_INPUT(run_scene(scene, {"--set", "cloth.mesh.trianglez=4"}),

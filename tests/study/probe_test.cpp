@@ -110,11 +110,13 @@ TEST(Probe, DivergenceIsReportedWithStepAndVertex) {
 }
 
 TEST(Probe, VertexInsideAnObstacleIsFlagged) {
-  // A pinned vertex is never pushed out by collisions: put a sphere around it.
+  // A pinned vertex is never pushed out by collisions: put a sphere around it (after the
+  // scene is built, since a scene's cloth must start outside its obstacles).
   Simulation base = sheet(R"({
     "cloth": {"pins": [{"vertices": [0]}]},
-    "obstacles": [{"sphere": {"center": [-0.1, -0.1, 0.0], "radius": 0.01}}]
+    "obstacles": [{"sphere": {"center": [-0.1, -0.1, 1.0], "radius": 0.01}}]
   })");
+  base.model.obstacles[0].center = Vec3(-0.1, -0.1, 0.0);
   ProbeSpec spec;
   spec.dt = 1e-4;
   spec.duration = 5e-4;
