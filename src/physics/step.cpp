@@ -10,6 +10,7 @@
 #include "physics/force_plan.h"
 #include "physics/forces.h"
 #include "physics/implicit.h"
+#include "physics/membrane.h"
 #include "physics/obstacle_response.h"
 #include "physics/parallel.h"
 #include "physics/step_scratch.h"
@@ -65,6 +66,24 @@ std::optional<Divergence> divergence_of(const Model& model, const State& state,
   return std::nullopt;
 }
 
+// The free vertex holding the most kinetic and membrane energy (a third of each of its
+// triangles'), where a run that gains energy has gone wrong.
+int vertex_holding_most_energy(const Model& model, const State& state) {
+  std::vector<double> held(model.num_vertices(), 0.0);  // J
+  std::vector<double> triangles;
+  triangle_energies(model, state.x, triangles);
+  for (size_t t = 0; t < model.triangles.size(); ++t) {
+    for (const int i : model.triangles[t]) held[i] += triangles[t] / 3.0;
+  }
+  int most = -1;
+  for (int i = 0; i < model.num_vertices(); ++i) {
+    if (model.pinned[i]) continue;
+    held[i] += 0.5 * model.mass[i] * state.v[i].squaredNorm();
+    if (most < 0 || held[i] > held[most]) most = i;
+  }
+  return most;
+}
+
 // Energy beyond the workspace's limit: a divergence naming the energy and the limit.
 std::optional<Divergence> energy_divergence(const Model& model, const State& state,
                                             double limit) {
@@ -75,7 +94,7 @@ std::optional<Divergence> energy_divergence(const Model& model, const State& sta
   reason << "energy " << energy << " J exceeds the " << limit
          << " J this scene can reach (its start plus ten times what gravity, wind and moving "
             "obstacles supply)";
-  return Divergence{state.step, state.t, -1, reason.str()};
+  return Divergence{state.step, state.t, vertex_holding_most_energy(model, state), reason.str()};
 }
 
 }  // namespace
