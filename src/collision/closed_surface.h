@@ -58,6 +58,8 @@ class ClosedSurface {
   const std::vector<std::array<int, 2>>& edges() const { return edges_; }  // (E) vertex ids
   const std::vector<std::array<int, 3>>& triangle_edges() const { return triangle_edges_; }
   const Vec3List& face_normals() const { return face_normals_; }  // (T) unit
+  // (V) angle-weighted pseudo-normals, outward, not of unit length.
+  const Vec3List& vertex_normals() const { return vertex_normals_; }
   // Edges whose two triangles meet at a convex angle with normals more than kSharpAngle
   // apart (a table's edges, not a body's gentle curves).
   const std::vector<int>& sharp_edges() const { return sharp_edges_; }

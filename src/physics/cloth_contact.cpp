@@ -154,7 +154,6 @@ struct ClothContact::Impl {
     int obstacle = -1;
     const ClosedSurface* surface = nullptr;
     std::vector<int> kinematic_of;  // (surface vertices) point id - V, or -1
-    Vec3List vertex_normals;        // (surface vertices) outward unit normals, t = 0
     Vec3 built_center;              // placement when the lists were built
     Mat3 built_rotation;
     double margin = 0.0;            // m, how far it may move before a rebuild
@@ -340,13 +339,6 @@ void ClothContact::Impl::prepare_topology(const Model& m) {
     f.obstacle = static_cast<int>(o);
     f.surface = m.obstacles[o].surface.get();
     f.kinematic_of.assign(f.surface->vertices().size(), -1);
-    f.vertex_normals.assign(f.surface->vertices().size(), Vec3::Zero());
-    for (size_t t = 0; t < f.surface->triangles().size(); ++t) {
-      for (int corner : f.surface->triangles()[t]) {
-        f.vertex_normals[corner] += f.surface->face_normals()[t];
-      }
-    }
-    for (Vec3& n : f.vertex_normals) n.normalize();
     meshes.push_back(std::move(f));
   }
 }
@@ -458,7 +450,7 @@ Vec3 ClothContact::Impl::obstacle_normal(const Pair& pair) const {
     if (id < V) continue;
     const int k = id - V;
     const MeshFeatures& f = meshes[kinematic_mesh[k]];
-    n += f.rotation0 * f.vertex_normals[kinematic_vertex[k]];
+    n += f.rotation0 * f.surface->vertex_normals()[kinematic_vertex[k]].normalized();
   }
   return n.normalized();
 }
