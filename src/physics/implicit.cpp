@@ -904,6 +904,48 @@ double midpoint_contact_work(const Model& model, const State& start, const Vec3L
   return work;
 }
 
+// The work obstacles moving over a step of length h from `start` at t to `end` can do on
+// the cloth through their contacts, J. A free vertex's contact impulse is what its forces
+// at the end of the step do not explain, J = M (v_{n+1} - v_n) - h f(x_{n+1}, v_{n+1})
+// (exact for backward Euler, to first order for the other methods). In the obstacle's frame
+// a contact only takes energy (it stops an approach, friction opposes sliding), so the
+// most it gives is J . u, u the velocity of the obstacle's surface there. A correction that
+// throws a vertex out faster than the surface moves is not the obstacle's work: the rule
+// must still see it. Only vertices that end within `reach` (m) of a moving obstacle's
+// thickness count, the others' impulses being the methods' small mismatch; a mesh
+// obstacle's vertex or edge pushes a cloth triangle, so that reach is an edge of the cloth.
+double moving_contact_work(const Model& model, const State& start, const State& end, double h,
+                           double t, double reach, Workspace& ws, Vec3List& f) {
+  std::vector<PlacedObstacle> moving;
+  for (const Obstacle& ob : model.obstacles) {
+    if (ob.motion.moves_between(t, t + h)) moving.push_back(place_obstacle(ob, t + h));
+  }
+  compute_forces(model, end.x, end.v, t + h, f, ws);
+  double work = 0.0;
+  for (int i = 0; i < model.num_vertices(); ++i) {
+    if (model.pinned[i]) continue;
+    double nearest = INFINITY;  // m, past the thickness
+    Vec3 surface_velocity = Vec3::Zero();  // m/s
+    for (const PlacedObstacle& ob : moving) {
+      const double band = ob.obstacle->thickness + reach;  // m
+      const SurfacePoint p = ob.closest(end.x[i], band);
+      const double gap = p.distance - ob.obstacle->thickness;
+      if (p.distance < band && gap < nearest) {
+        nearest = gap;
+        surface_velocity = p.velocity;
+      }
+    }
+    if (nearest == INFINITY) continue;
+    const Vec3 impulse = model.mass[i] * (end.v[i] - start.v[i]) - h * f[i];  // kg*m/s
+    work += impulse.dot(surface_velocity);
+  }
+  return work;
+}
+
+// Where a rule estimates the work of moving obstacles' contacts from: the midpoint rule's
+// own momentum balance, or (for any method) the impulses near the moving obstacles.
+enum class ContactWork { MidpointRule, NearMovingObstacles };
+
 // The energy balance of a step of length h from `start` at t to `end`, J: the energy at
 // each end (kinetic, elastic, gravity's and the barrier's) and the work supplied over the
 // step (the wind's along the straight path, and moving obstacles' through their contacts).
@@ -919,7 +961,8 @@ struct EnergyBalance {
 };
 
 EnergyBalance energy_balance(const Model& model, const State& start, const State& end, double h,
-                             double t, Workspace& ws) {
+                             double t, Workspace& ws,
+                             ContactWork contact_work = ContactWork::MidpointRule) {
   ImplicitSolver& s = solver_of(ws);
   const bool moving = has_moving_obstacle(model, t, t + h);
   const bool barrier = model.implicit.contact == ContactModel::Barrier && !moving;
@@ -934,9 +977,12 @@ EnergyBalance energy_balance(const Model& model, const State& start, const State
     if (model.wind) {
       b.supplied += midpoint_wind_work(model, start.x, end.x, s.work_x, s.work_v, t_mid, s.work_f);
     }
-    if (moving) {
+    if (moving && contact_work == ContactWork::MidpointRule) {
       b.supplied += midpoint_contact_work(model, start, end.x, s.work_x, s.work_v, h, t_mid, ws,
                                           s.work_f);
+    } else if (moving) {
+      b.supplied += moving_contact_work(model, start, end, h, t, mean_rest_edge(model), ws,
+                                        s.work_f);
     }
   }
   b.end_energy = total_energy(model, end);
@@ -1141,10 +1187,11 @@ double contact_length(const Model& model) {
 // The last round's corrections have no solve after them, and the stretch they leave can
 // exceed what the stage took out of the motion: a fold of 600 triangles at 1/60 s went
 // from 0.6 to 12 J with backward Euler and diverged with the midpoint rule
-// (docs/implicit.md). So unless an obstacle moves, a substep that the stage corrected and
-// that ends with more energy than it began with and the wind supplied is taken again as two
-// halves, at most kMaxStageHalvings deep: the gain falls with the substep's length (on that
-// fold about 0.09, 0.03 and 0.007 J at 8, 4 and 2 ms; none at 1 ms). Allowed: the energy
+// (docs/implicit.md). So a substep that the stage corrected and that ends with more energy
+// than it began with, the wind supplied and moving obstacles' contacts can supply
+// (moving_contact_work) is taken again as two halves, at most kMaxStageHalvings deep: the
+// gain falls with the substep's length (on that fold about 0.09, 0.03 and 0.007 J at 8, 4
+// and 2 ms; none at 1 ms). Allowed: the energy
 // slack of the midpoint rule, and the work of lifting the sheet by the stage's tolerance.
 constexpr int kMaxStageHalvings = 4;
 
@@ -1187,10 +1234,10 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   }
   s.kicks.clear();
   double gain = 0.0, slack = 0.0;  // J: the substep's energy gain, and what it may gain
-  const bool guard =
-      corrected && halvings < kMaxStageHalvings && !has_moving_obstacle(model, t, t + h);
+  const bool guard = corrected && halvings < kMaxStageHalvings;
   if (guard) {
-    const EnergyBalance b = energy_balance(model, start, state, h, t, ws);
+    const EnergyBalance b =
+        energy_balance(model, start, state, h, t, ws, ContactWork::NearMovingObstacles);
     gain = b.end_energy - b.supplied + b.end_barrier - b.start_energy;
     slack = kMidpointEnergySlack * (b.kinetic + b.elastic + std::abs(b.supplied)) +
             free_weight(model) * settled;
