@@ -886,20 +886,20 @@ double midpoint_wind_work(const Model& model, const Vec3List& x0, const Vec3List
   return work;
 }
 
-// The work the obstacles' contacts do over a midpoint step of length h from `start` to
-// positions x1 (m), with midpoint positions and velocities x_mid and w at time t_mid, J. A
-// free vertex's contact impulse (constraint and friction) follows from the step's momentum
-// balance: M (v_{n+1} - v_n) = h f(x_mid, w) + J with v_{n+1} = 2 w - v_n, so
-// J = 2 M (w - v_n) - h f(x_mid, w); its work is J . h w.
-double midpoint_contact_work(const Model& model, const State& start, const Vec3List& x1,
-                             const Vec3List& x_mid, const Vec3List& w, double h, double t_mid,
-                             Workspace& ws, Vec3List& f) {
+// The work the obstacles' contacts do over a midpoint step of length h from `start`, with
+// midpoint positions x_mid (m) and velocities w (m/s) at time t_mid, J. A free vertex's
+// contact impulse (constraint and friction) follows from the step's momentum balance:
+// M (v_{n+1} - v_n) = h f(x_mid, w) + J with v_{n+1} = 2 w - v_n, so
+// J = 2 M (w - v_n) - h f(x_mid, w); its work is J . w, w = (x_{n+1} - x_n) / h.
+double midpoint_contact_work(const Model& model, const State& start, const Vec3List& x_mid,
+                             const Vec3List& w, double h, double t_mid, Workspace& ws,
+                             Vec3List& f) {
   compute_forces(model, x_mid, w, t_mid, f, ws);
   double work = 0.0;
   for (int i = 0; i < model.num_vertices(); ++i) {
     if (model.pinned[i]) continue;
     const Vec3 impulse = 2.0 * model.mass[i] * (w[i] - start.v[i]) - h * f[i];  // kg*m/s
-    work += impulse.dot(x1[i] - start.x[i]);
+    work += impulse.dot(w[i]);
   }
   return work;
 }
@@ -978,8 +978,8 @@ EnergyBalance energy_balance(const Model& model, const State& start, const State
       b.supplied += midpoint_wind_work(model, start.x, end.x, s.work_x, s.work_v, t_mid, s.work_f);
     }
     if (moving && contact_work == ContactWork::MidpointRule) {
-      b.supplied += midpoint_contact_work(model, start, end.x, s.work_x, s.work_v, h, t_mid, ws,
-                                          s.work_f);
+      b.supplied +=
+          midpoint_contact_work(model, start, s.work_x, s.work_v, h, t_mid, ws, s.work_f);
     } else if (moving) {
       b.supplied += moving_contact_work(model, start, end, h, t, mean_rest_edge(model), ws,
                                         s.work_f);
