@@ -13,15 +13,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
-RunResult run_checked(const std::string& scene_name, const std::vector<std::string>& overrides) {
-  const Scene scene =
-      load_scene((fs::path(TISSU_SOURCE_DIR) / "scenes" / scene_name).string(), overrides);
+// Runs `scene` from its start, a frame every 1 / frame_rate s, with the exact crossing
+// check on each frame if asked.
+RunResult run_scene(const Scene& scene, double frame_rate = 30.0, bool check = false) {
   Simulation sim = build_simulation(scene);
   RunOptions options;
-  options.frame_rate = 30.0;
+  options.frame_rate = frame_rate;
   options.progress = false;
-  options.check = true;
+  options.check = check;
   return run_simulation(scene, sim, options, nullptr);
+}
+
+RunResult run_checked(const std::string& scene_name, const std::vector<std::string>& overrides) {
+  return run_scene(
+      load_scene((fs::path(TISSU_SOURCE_DIR) / "scenes" / scene_name).string(), overrides), 30.0,
+      true);
 }
 
 // The run ended well and no frame has cloth crossing itself or an obstacle.
@@ -134,11 +140,7 @@ TEST(ContactScenes, StudySphereAtSmallImplicitStepsGainsNoEnergy) {
       {"integrator=backward_euler", "dt=1.52587890625e-05", "duration=0.11",
        "implicit.newton_tolerance=1e-7", "implicit.cg_tolerance=1e-9",
        "implicit.newton_iterations=30"});
-  Simulation sim = build_simulation(scene);
-  RunOptions options;
-  options.frame_rate = 240.0;
-  options.progress = false;
-  const RunResult r = run_simulation(scene, sim, options, nullptr);
+  const RunResult r = run_scene(scene, 240.0);
   ASSERT_EQ(r.status, RunStatus::Ok);
   ASSERT_GT(r.frames.size(), 20u);
   const double start = frame_energy(r.frames.front());  // J
@@ -159,13 +161,8 @@ TEST(ContactScenes, TableHeldStillByKeyframesIsTheStillTable) {
   Scene held = still;
   held.obstacles[0].motion.keyframes = {Keyframe{}, Keyframe{}};
   held.obstacles[0].motion.keyframes[1].time = 1.0;
-  RunOptions options;
-  options.frame_rate = 30.0;
-  options.progress = false;
-  Simulation a = build_simulation(still);
-  Simulation b = build_simulation(held);
-  const RunResult ra = run_simulation(still, a, options, nullptr);
-  const RunResult rb = run_simulation(held, b, options, nullptr);
+  const RunResult ra = run_scene(still);
+  const RunResult rb = run_scene(held);
   ASSERT_EQ(rb.status, RunStatus::Ok);
   ASSERT_EQ(ra.frames.size(), rb.frames.size());
   const double start = frame_energy(rb.frames.front());  // J
@@ -191,11 +188,7 @@ TEST(ContactScenes, SheetDroppedOnASphereWithBdf2AtThirtyHertzGainsNoEnergy) {
                   {"plane": {"point": [0, 0, -0.25], "normal": [0, 0, 1], "friction": 0.6}}],
     "implicit": {"contact": "constraints"}
   })"), "");
-  Simulation sim = build_simulation(scene);
-  RunOptions options;
-  options.frame_rate = 30.0;
-  options.progress = false;
-  const RunResult r = run_simulation(scene, sim, options, nullptr);
+  const RunResult r = run_scene(scene);
   ASSERT_EQ(r.status, RunStatus::Ok);
   const double start = frame_energy(r.frames.front());  // J
   for (const FrameStats& f : r.frames) {
