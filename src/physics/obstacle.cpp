@@ -40,7 +40,7 @@ bool ObstacleMotion::moves_between(double t0, double t1) const {
   for (size_t k = 0; k + 1 < keyframes.size(); ++k) {
     const Keyframe& a = keyframes[k];
     const Keyframe& b = keyframes[k + 1];
-    if (b.time <= t0 || a.time >= t1) continue;
+    if (b.time <= t0 || a.time > t1) continue;  // a segment starting at t1 moves it then
     const bool turns = a.rotation.coeffs() != b.rotation.coeffs() &&
                        a.rotation.coeffs() != -b.rotation.coeffs();
     if (a.translation != b.translation || turns) return true;

@@ -33,8 +33,9 @@ struct ObstacleMotion {
   Vec3 amplitude = Vec3::Zero();  // m, periodic displacement amplitude
   double period = 0.0;            // s; 0 = no periodic part
   std::vector<Keyframe> keyframes;  // ascending times; empty = none
-  // Whether the pose changes at some time, and whether it changes within [t0, t1] (s).
-  // Keyframes that all hold one pose do not move the obstacle.
+  // Whether the pose changes at some time, and whether it changes within [t0, t1] (s), a
+  // segment that starts at t1 included (the velocity at t1 is already its own). Keyframes
+  // that all hold one pose do not move the obstacle.
   bool moves() const;
   bool moves_between(double t0, double t1) const;
 };

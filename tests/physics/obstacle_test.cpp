@@ -226,9 +226,6 @@ TEST(MeshObstacle, KeyframedBoxTurnsAndMoves) {
   EXPECT_TRUE(box.carried(Vec3(0.5, 0, 0), 3.0).isApprox(Vec3(0, 0.5, 1.0), 1e-12));
 }
 
-// Dropped from several heights with several frictions, so that the cloth meets the box's
-// edges and corners in different ways: the collision stage's impulses at the edges must
-// not leave a vertex inside (from 0.1 m with friction 0.6 one ended 2.2e-6 m inside).
 // Motion is judged by the pose: keyframes that repeat one pose do not move an obstacle,
 // and a keyframed one moves only between keyframes whose poses differ.
 TEST(ObstacleMotion, MovesOnlyWhereThePoseChanges) {
@@ -245,13 +242,18 @@ TEST(ObstacleMotion, MovesOnlyWhereThePoseChanges) {
   c.translation = Vec3(0.0, 0.0, 0.1);
   m.keyframes = {a, b, c};
   EXPECT_TRUE(m.moves());
-  EXPECT_FALSE(m.moves_between(0.0, 1.0));
+  EXPECT_FALSE(m.moves_between(0.0, 0.9));
+  EXPECT_TRUE(m.moves_between(0.9, 1.0));  // its velocity at 1.0 is the next segment's
   EXPECT_TRUE(m.moves_between(0.9, 1.1));
   EXPECT_FALSE(m.moves_between(2.0, 3.0));
   c.translation = Vec3::Zero();
   c.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Vec3::UnitZ()));
   m.keyframes = {a, b, c};
   EXPECT_TRUE(m.moves_between(1.5, 1.6));
+  b.translation = c.translation = Vec3(0.3, 0.0, 0.0);  // held still away from the start
+  b.rotation = c.rotation;
+  m.keyframes = {b, c};
+  EXPECT_FALSE(m.moves());
   m.keyframes.clear();
   m.period = 1.0;
   m.amplitude = Vec3(0.1, 0.0, 0.0);
@@ -261,6 +263,9 @@ TEST(ObstacleMotion, MovesOnlyWhereThePoseChanges) {
   EXPECT_TRUE(m.moves());
 }
 
+// Dropped from several heights with several frictions, so that the cloth meets the box's
+// edges and corners in different ways: the collision stage's impulses at the edges must
+// not leave a vertex inside (from 0.1 m with friction 0.6 one ended 2.2e-6 m inside).
 TEST(MeshObstacle, NoVertexInsideAMeshBox) {
   for (double height : {0.05, 0.1, 0.13}) {
     for (double friction : {0.3, 0.6}) {
