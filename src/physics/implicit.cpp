@@ -859,8 +859,8 @@ struct SolveCounts {
 // stage's impulses, which each half would take whole.) BDF-2 steps are held by the same
 // rule: BDF-2 is not energy-stable in contact either, and a cotton sheet dropped on a sphere
 // with the constraints at 1/30 s gained 0.012 and 0.043 J in two steps where its hanging
-// sides met the ground. Its halves restart it with a backward Euler step; see
-// ruled_bdf2_step for wind.)
+// sides met the ground. Its halves restart it with a backward Euler step, and so does the
+// next step, whose history is then of half its length (see ruled_bdf2_step for wind).
 constexpr double kMidpointEnergySlack = 1e-4;
 constexpr int kMaxMidpointHalvings = 4;
 
@@ -910,23 +910,19 @@ double midpoint_contact_work(const Model& model, const State& start, const Vec3L
 
 // The work obstacles moving over a step of length h from `start` at t to `end` can do on
 // the cloth through their contacts, J. A free vertex's contact impulse is what its forces
-// do not explain, J = M (v_{n+1} - v_n) - h f, with the forces f where the method takes
-// them: at the end of the step, f(x_{n+1}, v_{n+1}) (exact for backward Euler, to first
-// order for BDF-2), or for the midpoint rule at the midpoint, f(x_mid, w) (exact for it;
-// the end's forces put its impulses off by h (f(x_{n+1}) - f(x_mid)), which on a stiff
-// membrane hid a gain of 20 J in two steps at 1/30 s). In the obstacle's frame
-// a contact only takes energy (it stops an approach, friction opposes sliding), so the
-// most it gives is J . u, u the velocity of the obstacle's surface there. A correction that
-// throws a vertex out faster than the surface moves is not the obstacle's work: the rule
-// must still see it. Only vertices that end within `reach` (m) of a moving obstacle's
-// thickness count, the others' impulses being the methods' small mismatch; a mesh
-// obstacle's vertex or edge pushes a cloth triangle, so that reach is an edge of the cloth.
+// do not explain, J = M (v_{n+1} - v_n) - h f, with f where the method takes it: at the
+// end of the step, or the midpoint rule's at its midpoint (x_mid, w). In the obstacle's
+// frame a contact only takes energy, so J . u bounds what it gives, u the velocity of the
+// obstacle's surface; a correction that throws a vertex out faster than the surface moves
+// is not counted. A vertex counts where its nearest obstacle moves and lies within `reach`
+// (m) past its thickness: a mesh's vertex or edge pushes a cloth triangle, so reach is an
+// edge of the cloth.
 double moving_contact_work(const Model& model, const State& start, const State& end,
                            const Vec3List& x_mid, const Vec3List& w, double h, double t,
                            double reach, Workspace& ws, Vec3List& f) {
-  std::vector<PlacedObstacle> moving;
+  std::vector<PlacedObstacle> moving, still;
   for (const Obstacle& ob : model.obstacles) {
-    if (ob.motion.moves_between(t, t + h)) moving.push_back(place_obstacle(ob, t + h));
+    (ob.motion.moves_between(t, t + h) ? moving : still).push_back(place_obstacle(ob, t + h));
   }
   if (model.integrator == Integrator::ImplicitMidpoint) {
     compute_forces(model, x_mid, w, t + 0.5 * h, f, ws);
@@ -948,6 +944,13 @@ double moving_contact_work(const Model& model, const State& start, const State& 
       }
     }
     if (nearest == INFINITY) continue;
+    bool moving_nearest = true;
+    for (const PlacedObstacle& ob : still) {
+      const double band = ob.obstacle->thickness + nearest;  // m
+      const double gap = ob.closest(end.x[i], band).distance - ob.obstacle->thickness;
+      moving_nearest = moving_nearest && gap >= nearest;
+    }
+    if (!moving_nearest) continue;
     const Vec3 impulse = model.mass[i] * (end.v[i] - start.v[i]) - h * f[i];  // kg*m/s
     work += impulse.dot(surface_velocity);
   }
@@ -961,8 +964,10 @@ enum class ContactWork { MidpointRule, NearMovingObstacles };
 // The energy balance of a step of length h from `start` at t to `end`, J: the energy at
 // each end (kinetic, elastic, gravity's and the barrier's) and the work supplied over the
 // step (the wind's along the straight path, and moving obstacles' through their contacts).
-// Those contacts' impulses include the barrier's (its force is not among compute_forces'
-// terms), so with a moving obstacle the barrier's energy stays out and its work is in.
+// The midpoint rule's estimate of those contacts' work takes every vertex's impulse, the
+// barrier's included (its force is not among compute_forces' terms), so with it and a
+// moving obstacle the barrier's energy stays out and its work is in. The estimate near
+// moving obstacles takes only their contacts' work, and the barrier's energy stays in.
 // Each rule adds the end's parts in its own order: another order can round differently.
 struct EnergyBalance {
   double kinetic = 0.0, elastic = 0.0, barrier = 0.0;  // at the start
@@ -973,11 +978,11 @@ struct EnergyBalance {
 };
 
 EnergyBalance energy_balance(const Model& model, const State& start, const State& end, double h,
-                             double t, Workspace& ws,
-                             ContactWork contact_work = ContactWork::MidpointRule) {
+                             double t, Workspace& ws, ContactWork contact_work) {
   ImplicitSolver& s = solver_of(ws);
   const bool moving = has_moving_obstacle(model, t, t + h);
-  const bool barrier = model.implicit.contact == ContactModel::Barrier && !moving;
+  const bool barrier = model.implicit.contact == ContactModel::Barrier &&
+                       !(moving && contact_work == ContactWork::MidpointRule);
   EnergyBalance b;
   b.barrier = barrier ? barrier_energy_of(model, start.x, t) : 0.0;
   b.kinetic = kinetic_energy(model, start.v);

@@ -482,7 +482,7 @@ TEST(Barrier, SheetThrownOnASphereWithDampingNeitherDivergesNorGainsEnergy) {
 }
 
 // A midpoint step with the barrier that gains energy is taken again as two halves
-// (implicit.cpp, implicit_midpoint_step); the step's Newton, CG and factorization counts
+// (implicit.cpp, energy_ruled_step); the step's Newton, CG and factorization counts
 // then include every solve it made, not only the last half's. On the sheet dropped on the
 // sphere at 1/60 s some steps are halved: those solved in one substep report more Newton
 // iterations than their last solve made. A step never reports fewer.

@@ -573,13 +573,14 @@ double sheet_on_rising_box(double speed) {
 }
 
 // The stage's energy rule once stayed off while any obstacle moved: a sheet on a box
-// rising at 1 cm/s stretched by 28% and one at 10 cm/s diverged, where the still box
-// stretches it by 1%. The rule now allows what the moving box's contacts can supply.
+// rising at 1 cm/s stretched by 70% and one at 10 cm/s diverged, where the still box
+// stretches it by 0.6%. The rule now allows what the moving box's contacts can supply
+// (0.9% and 0.8%).
 TEST(ClothContact, SheetOnARisingMeshBoxStretchesAsOnAStillOneImplicit) {
   const double still = sheet_on_rising_box(0.0);
-  EXPECT_LT(still, 0.03);
+  EXPECT_LT(still, 0.01);
   for (const double speed : {0.01, 0.1}) {
-    EXPECT_LT(sheet_on_rising_box(speed), still + 0.02) << speed << " m/s";
+    EXPECT_LT(sheet_on_rising_box(speed), still + 0.01) << speed << " m/s";
   }
 }
 

@@ -456,7 +456,7 @@ TEST(Contact, SlidingFrictionMatchesItsPotentialAndJacobian) {
 // its value at the start. The midpoint rule conserves energy only where the forces are
 // linear over a step; held by the constraints its stiff membrane gained up to 0.12 J here
 // (twice what friction takes over the run) before its energy guard (implicit.cpp,
-// implicit_midpoint_step) took such steps again in halves.
+// energy_ruled_step) took such steps again in halves.
 TEST(Contact, SheetDroppedOnASphereAtThirtyHertzNeverEndsInsideNorGainsEnergy) {
   for (Integrator integrator :
        {Integrator::BackwardEuler, Integrator::Bdf2, Integrator::ImplicitMidpoint}) {
@@ -525,7 +525,7 @@ TEST(Contact, MovingSpherePushesTheClothWithoutPassingThrough) {
 // contact model. The ball does work on the cloth, so the energy may rise, but only by that
 // work (the contact impulses, from each step's momentum balance, times the displacements);
 // a midpoint step that gains more is taken again in halves (implicit.cpp,
-// implicit_midpoint_step). Before the rule measured the obstacle's work it stayed off here,
+// energy_ruled_step). Before the rule measured the obstacle's work it stayed off here,
 // and this run diverged, at its fifth step with the constraints and its fourth with the
 // barrier.
 TEST(Contact, MidpointSheetStruckByAFastSphereStaysBoundedAndOutside) {

@@ -582,7 +582,7 @@ Stretched stretched_sheet(Integrator integrator, double dt) {
 // A silk sheet hanging from two corners in strong gusty wind (the wind of
 // scenes/hard/gusty_wind.json) with the midpoint rule at 1/30 s. The wind drives it, so its
 // energy may rise, by the wind's work; a midpoint step that gains more than that is taken
-// again in halves (implicit.cpp, implicit_midpoint_step). Without the wind's work counted
+// again in halves (implicit.cpp, energy_ruled_step). Without the wind's work counted
 // the rule did not act on windy scenes, and this sheet diverged.
 TEST(ImplicitMidpoint, SheetInGustyWindAtThirtyHertzDoesNotDiverge) {
   Material silk = *material_preset("silk");
