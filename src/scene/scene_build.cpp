@@ -185,9 +185,10 @@ void load_obstacle_surface(const ObstacleMeshSpec& spec, Obstacle& ob) {
 // laid on a surface, not an overlap.
 constexpr double kStartInsideTolerance = 1e-6;
 
-// The cloth starts outside every obstacle. A vertex that starts inside is pushed out in
-// the first step at any speed that takes (a sheet started through a sphere reached
-// 1e4 m/s), which a run then reports as a divergence with a hint to shrink the step.
+// The cloth's free vertices start outside every obstacle. One that starts inside is pushed
+// out in the first step at any speed that takes (a sheet started through a sphere reached
+// 1e4 m/s), which a run then reports as a divergence with a hint to shrink the step. A
+// pinned vertex is never pushed, and may be held inside.
 void require_cloth_outside_obstacles(const Model& model, const Vec3List& x) {
   for (size_t o = 0; o < model.obstacles.size(); ++o) {
     const Obstacle& ob = model.obstacles[o];
@@ -195,6 +196,7 @@ void require_cloth_outside_obstacles(const Model& model, const Vec3List& x) {
     double deepest = kStartInsideTolerance;  // m
     size_t vertex = x.size();
     for (size_t i = 0; i < x.size(); ++i) {
+      if (model.pinned[i]) continue;
       const double depth = -ob.signed_distance(x[i], 0.0, &normal);  // m
       if (depth <= deepest) continue;
       deepest = depth;
