@@ -853,16 +853,16 @@ struct SolveCounts {
 // from 1/240 to 1/30 s, the demo diverged at 1/240 s, and without contact a hanging sheet
 // gains energy at 1/64 s (docs/accuracy.md).
 // So a midpoint step that raises the total energy (the barrier's included) by more than the
-// work the wind and moving obstacles did over it, plus kMidpointEnergySlack of the energy at
+// work the wind and moving obstacles did over it, plus kEnergyRuleSlack of the energy at
 // stake (kinetic, elastic and barrier energy, that work, plus the weight over dhat), is
-// taken again as two halves, at most kMaxMidpointHalvings deep. (Not with the collision
+// taken again as two halves, at most kMaxEnergyRuleHalvings deep. (Not with the collision
 // stage's impulses, which each half would take whole.) BDF-2 steps are held by the same
 // rule: BDF-2 is not energy-stable in contact either, and a cotton sheet dropped on a sphere
 // with the constraints at 1/30 s gained 0.012 and 0.043 J in two steps where its hanging
 // sides met the ground. Its halves restart it with a backward Euler step, and so does the
 // next step, whose history is then of half its length (see ruled_bdf2_step for wind).
-constexpr double kMidpointEnergySlack = 1e-4;
-constexpr int kMaxMidpointHalvings = 4;
+constexpr double kEnergyRuleSlack = 1e-4;
+constexpr int kMaxEnergyRuleHalvings = 4;
 
 // The midpoint positions (x0 + x1) / 2 (m) and velocities (x1 - x0) / h (m/s) of a step of
 // length h from x0 to x1.
@@ -1015,7 +1015,7 @@ using MethodSolve = void (*)(const Model&, State&, Workspace&, double, double);
 void energy_ruled_step(const Model& model, State& state, Workspace& ws, double h, double t,
                        MethodSolve solve, ContactWork work, int halvings = 0) {
   ImplicitSolver& s = solver_of(ws);
-  const bool guard = s.kicks.empty() && halvings < kMaxMidpointHalvings;
+  const bool guard = s.kicks.empty() && halvings < kMaxEnergyRuleHalvings;
   if (!guard) {
     solve(model, state, ws, h, t);
     return;
@@ -1027,7 +1027,7 @@ void energy_ruled_step(const Model& model, State& state, Workspace& ws, double h
   const double at_stake = b.kinetic + b.elastic + b.barrier + std::abs(b.supplied) +
                           free_weight(model) * barrier_distance(model);  // J
   const double e1 = b.end_energy + b.end_barrier - b.supplied;  // J, less the supplied work
-  if (e1 <= b.start_energy + kMidpointEnergySlack * at_stake) return;
+  if (e1 <= b.start_energy + kEnergyRuleSlack * at_stake) return;
   SolveCounts counts;  // the whole step's solve, discarded, and both halves'
   counts.add(ws);
   state = start;
@@ -1273,7 +1273,7 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
     const EnergyBalance b =
         energy_balance(model, start, state, h, t, ws, ContactWork::NearMovingObstacles);
     gain = b.end_energy - b.supplied + b.end_barrier - b.start_energy;
-    slack = kMidpointEnergySlack * (b.kinetic + b.elastic + std::abs(b.supplied)) +
+    slack = kEnergyRuleSlack * (b.kinetic + b.elastic + std::abs(b.supplied)) +
             free_weight(model) * settled;
   }
   if (guard && gain > slack) {
