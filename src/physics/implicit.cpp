@@ -1225,8 +1225,8 @@ double contact_length(const Model& model) {
 // than it began with, the wind supplied and moving obstacles' contacts can supply
 // (moving_contact_work) is taken again as two halves, at most kMaxStageHalvings deep: the
 // gain falls with the substep's length (on that fold about 0.09, 0.03 and 0.007 J at 8, 4
-// and 2 ms; none at 1 ms). Allowed: the energy
-// slack of the midpoint rule, and the work of lifting the sheet by the stage's tolerance.
+// and 2 ms; none at 1 ms). Allowed: the energy rule's slack (kEnergyRuleSlack), and the
+// work of lifting the sheet by the stage's tolerance.
 constexpr int kMaxStageHalvings = 4;
 
 void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s, double h,
