@@ -37,6 +37,10 @@ double stiffness_step(const Model& model) {
                                                    : model.dt;
 }
 
+// Times make_feasible draws the guess back before it gives up on the mesh feature pairs
+// (each round stops short of the first touch, so one usually suffices).
+constexpr int kFeasibleRounds = 4;
+
 }  // namespace
 
 double barrier_distance(const Model& model) {
@@ -44,25 +48,12 @@ double barrier_distance(const Model& model) {
   return kBarrierEdgeFraction * mean_rest_edge(model);
 }
 
-double barrier_energy_of(const Model& model, const Vec3List& x, double t) {
-  const double dhat = barrier_distance(model), dt = stiffness_step(model);
-  double total = 0.0;
-  for (const Obstacle& ob : model.obstacles) {
-    if (ob.kind == ObstacleKind::Mesh) continue;
-    const PlacedObstacle placed = place_obstacle(ob, t);
-    for (int i = 0; i < model.num_vertices(); ++i) {
-      if (model.pinned[i]) continue;
-      const double d = gap_distance(placed, x[i]);
-      total += barrier_energy(d, dhat, barrier_stiffness(model.mass[i], dt));
-    }
-  }
-  return total;
-}
-
-double gap_distance(const PlacedObstacle& obstacle, const Vec3& p) {
+double gap_distance(const PlacedObstacle& obstacle, const Vec3& p, double reach) {
   const Obstacle& ob = *obstacle.obstacle;
   Vec3 normal;
-  return ob.signed_distance_from(p, obstacle.center, &normal, obstacle.rotation) - ob.thickness;
+  return ob.signed_distance_from(p, obstacle.center, &normal, obstacle.rotation,
+                                 reach + ob.thickness) -
+         ob.thickness;
 }
 
 Gap obstacle_gap(const PlacedObstacle& obstacle, const Vec3& p) {
@@ -106,7 +97,7 @@ Gap obstacle_gap(const PlacedObstacle& obstacle, const Vec3& p) {
 BarrierTerm vertex_barrier(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
                            double dhat, bool psd) {
   BarrierTerm term;
-  if (gap_distance(obstacle, p) >= dhat) return term;
+  if (gap_distance(obstacle, p, dhat) >= dhat) return term;
   const Gap g = obstacle_gap(obstacle, p);
   term.energy = barrier_energy(g.d, dhat, kappa);
   if (g.d <= 0.0) return term;
@@ -136,7 +127,7 @@ double NormalDamping::potential(const Vec3& v) const {
 
 NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, double kappa,
                              double mass, double dhat, double zeta) {
-  const double d = gap_distance(obstacle, p);
+  const double d = gap_distance(obstacle, p, dhat);
   if (d <= 0.0 || d >= dhat) return NormalDamping{};
   const Gap g = obstacle_gap(obstacle, p);
   NormalDamping damping{g.normal, g.surface_velocity, 0.0};
@@ -147,7 +138,7 @@ NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, doub
 
 double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u) {
   const Obstacle& ob = *obstacle.obstacle;
-  const double d0 = gap_distance(obstacle, p);
+  const double d0 = gap_distance(obstacle, p, u.norm());
   if (d0 <= 0.0) return 0.0;
   switch (ob.kind) {
     case ObstacleKind::Plane: {
@@ -170,7 +161,7 @@ double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u)
       for (int k = 0; k < 100 && d > 1e-3 * d0; ++k) {
         t += d / speed;
         if (t >= 1.0) return 1.0;
-        d = gap_distance(obstacle, p + t * u);
+        d = gap_distance(obstacle, p + t * u, speed);
       }
       return std::max(0.0, t);
     }
@@ -193,10 +184,10 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   dhat_ = barrier_distance(model);
   const int n = model.num_vertices();
   kappa_.resize(n);
-  const double stiffness_dt = stiffness_step(model);
-  for (int i = 0; i < n; ++i) kappa_[i] = barrier_stiffness(model.mass[i], stiffness_dt);
+  stiffness_dt_ = stiffness_step(model);
+  for (int i = 0; i < n; ++i) kappa_[i] = barrier_stiffness(model.mass[i], stiffness_dt_);
+  features_.begin(model, t_end);
   for (const Obstacle& ob : model.obstacles) {
-    if (ob.kind == ObstacleKind::Mesh) continue;
     placed_.push_back(place_obstacle(ob, t_end));
     placed_start_.push_back(place_obstacle(ob, t));
     if (ob.friction == 0.0) continue;
@@ -204,7 +195,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
     const PlacedObstacle& start = placed_start_.back();
     for (int i = 0; i < n; ++i) {
       if (model.pinned[i]) continue;
-      const double d = gap_distance(start, x_n[i]);
+      const double d = gap_distance(start, x_n[i], dhat_);
       if (d <= 0.0 || d >= dhat_) continue;
       const Gap g = obstacle_gap(start, x_n[i]);
       const double normal_impulse =
@@ -226,16 +217,15 @@ double holding_gap(double force, double dhat, double kappa) {
   return above;
 }
 
-void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
-                                   const std::function<const Vec3List&()>& forces) const {
-  if (!enabled_) return;
+void BarrierContact::push_out(Vec3List& v, const Vec3List& v_base,
+                              const std::function<const Vec3List&()>& forces,
+                              const Vec3List*& f) const {
   const double keep = 0.5 * dhat_;  // m
-  const Vec3List* f = nullptr;      // N, at the first close vertex: before any v changes
   for (int i = 0; i < model_->num_vertices(); ++i) {
     if (model_->pinned[i]) continue;
     for (size_t o = 0; o < placed_.size(); ++o) {
       const Vec3 x = end_position(v, i);
-      if (gap_distance(placed_[o], x) >= keep) continue;
+      if (gap_distance(placed_[o], x, keep) >= keep) continue;
       const Gap g = obstacle_gap(placed_[o], x);
       if (!f) f = &forces();
       // The impulse the barrier must give over the step for the vertex to end moving with
@@ -243,11 +233,37 @@ void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
       const double press = model_->mass[i] * (g.surface_velocity - v_base[i]).dot(g.normal) -
                            beta_ * (*f)[i].dot(g.normal);
       const double balance = holding_gap(press / beta_, dhat_, kappa_[i]);
-      const double start = gap_distance(placed_start_[o], (*x_start_)[i]);
+      const double start = gap_distance(placed_start_[o], (*x_start_)[i], keep);
       const double target = std::min(keep, std::max(start, balance));
       if (g.d < target) v[i] += ((target - g.d) / beta_end_) * g.normal;
     }
   }
+}
+
+void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
+                                   const std::function<const Vec3List&()>& forces) {
+  if (!enabled_) return;
+  const Vec3List* f = nullptr;  // N, at the first close vertex: before any v changes
+  push_out(v, v_base, forces, f);
+  if (!features_.active()) return;
+  const Vec3List& x_n = *x_start_;
+  for (int round = 0; round < kFeasibleRounds; ++round) {
+    const Vec3List& x_end = end_positions(v);
+    features_.find_pairs(x_n, x_end, dhat_);
+    x_path_.resize(x_n.size());
+    for (size_t i = 0; i < x_n.size(); ++i) x_path_[i] = x_end[i] - x_n[i];
+    const double touch = features_.first_touch(x_n, x_path_);
+    if (touch >= 1.0) return;
+    // Back toward the velocities that end every vertex at x_n.
+    const double keep = kBarrierStepFraction * touch;
+    for (int i = 0; i < model_->num_vertices(); ++i) {
+      if (model_->pinned[i]) continue;
+      const Vec3 stay = (x_n[i] - (*x_end_base_)[i]) / beta_end_;  // m/s
+      v[i] = stay + keep * (v[i] - stay);
+    }
+    push_out(v, v_base, forces, f);
+  }
+  features_.find_pairs(x_n, end_positions(v), dhat_);
 }
 
 void BarrierContact::freeze_damping(const Vec3List& v, const Vec3List& v_n) {
@@ -267,6 +283,28 @@ void BarrierContact::freeze_damping(const Vec3List& v, const Vec3List& v_n) {
   }
 }
 
+namespace {
+
+// kappa of a feature pair: that of the mean mass of its free vertices, kg/s^2.
+double pair_stiffness(const Model& model, const PairGap& g, double dt) {
+  double mass = 0.0;
+  int free = 0;
+  for (int k = 0; k < g.count; ++k) {
+    if (model.pinned[g.vertices[k]]) continue;
+    mass += model.mass[g.vertices[k]];
+    ++free;
+  }
+  return free > 0 ? barrier_stiffness(mass / free, dt) : 0.0;
+}
+
+}  // namespace
+
+const Vec3List& BarrierContact::end_positions(const Vec3List& v) const {
+  x_end_.resize(v.size());
+  for (size_t i = 0; i < v.size(); ++i) x_end_[i] = end_position(v, static_cast<int>(i));
+  return x_end_;
+}
+
 double BarrierContact::potential(const Vec3List& v) const {
   if (!enabled_) return 0.0;
   double total = 0.0;
@@ -274,8 +312,13 @@ double BarrierContact::potential(const Vec3List& v) const {
     if (model_->pinned[i]) continue;
     const Vec3 x = end_position(v, i);
     for (const PlacedObstacle& o : placed_) {
-      total += barrier_energy(gap_distance(o, x), dhat_, kappa_[i]);
+      total += barrier_energy(gap_distance(o, x, dhat_), dhat_, kappa_[i]);
     }
+  }
+  if (features_.active()) {
+    features_.for_each_gap(end_positions(v), [&](const PairGap& g) {
+      total += barrier_energy(g.d, dhat_, pair_stiffness(*model_, g, stiffness_dt_));
+    });
   }
   total *= beta_ / beta_end_;
   for (const Friction& f : friction_) total += f.law.potential(v[f.vertex]);
@@ -299,6 +342,17 @@ void BarrierContact::for_each_term(const Vec3List& v, Visit visit) const {
 void BarrierContact::add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const {
   if (!enabled_) return;
   for_each_term(v, [&](int i, const BarrierTerm& b) { rhs.segment<3>(3 * i) -= beta_ * b.gradient; });
+  if (features_.active()) {
+    features_.for_each_gap(end_positions(v), [&](const PairGap& g) {
+      if (g.d <= 0.0 || g.d >= dhat_) return;
+      const double slope =
+          barrier_derivative(g.d, dhat_, pair_stiffness(*model_, g, stiffness_dt_));  // N
+      for (int k = 0; k < g.count; ++k) {
+        if (model_->pinned[g.vertices[k]]) continue;
+        rhs.segment<3>(3 * g.vertices[k]) -= (beta_ * slope * g.weights[k]) * g.normal;
+      }
+    });
+  }
   for (const Friction& f : friction_) rhs.segment<3>(3 * f.vertex) += f.law.impulse(v[f.vertex]);
   for (const Damping& d : damping_) {
     rhs.segment<3>(3 * d.vertex) += beta_ * d.law.force(end_velocity(v, d.vertex));
@@ -309,20 +363,44 @@ void BarrierContact::add_hessian(const Vec3List& v, SystemMatrix& system) const 
   if (!enabled_) return;
   const double scale = beta_ * beta_end_;  // s^2
   for_each_term(v, [&](int i, const BarrierTerm& b) { system.add_diagonal(i, scale * b.hessian); });
+  if (features_.active()) {
+    features_.for_each_gap(end_positions(v), [&](const PairGap& g) {
+      if (g.d <= 0.0 || g.d >= dhat_) return;
+      const double curve =
+          barrier_second_derivative(g.d, dhat_, pair_stiffness(*model_, g, stiffness_dt_));
+      const Mat3 nn = (scale * curve) * g.normal * g.normal.transpose();  // kg
+      for (int k = 0; k < g.count; ++k) {
+        if (model_->pinned[g.vertices[k]]) continue;
+        for (int l = 0; l < g.count; ++l) {
+          if (model_->pinned[g.vertices[l]]) continue;
+          system.add_block(g.vertices[k], g.vertices[l], (g.weights[k] * g.weights[l]) * nn);
+        }
+      }
+    });
+  }
   for (const Friction& f : friction_) system.add_diagonal(f.vertex, f.law.jacobian(v[f.vertex]));
   for (const Damping& d : damping_) system.add_diagonal(d.vertex, -beta_end_ * d.law.velocity_jacobian());
 }
 
-double BarrierContact::largest_step(const Vec3List& v, const Eigen::VectorXd& dv) const {
+double BarrierContact::largest_step(const Vec3List& v, const Eigen::VectorXd& dv) {
   if (!enabled_) return 1.0;
   double step = 1.0;
+  if (features_.active()) {
+    const Vec3List& x = end_positions(v);
+    x_path_.resize(x.size());
+    for (size_t i = 0; i < x.size(); ++i) x_path_[i] = x[i] + beta_end_ * Vec3(dv.segment<3>(3 * i));
+    features_.find_pairs(x, x_path_, dhat_);
+    for (size_t i = 0; i < x.size(); ++i) x_path_[i] -= x[i];
+    const double touch = features_.first_touch(x, x_path_);
+    if (touch < 1.0) step = kBarrierStepFraction * touch;
+  }
   for (int i = 0; i < model_->num_vertices(); ++i) {
     if (model_->pinned[i]) continue;
     const Vec3 x = end_position(v, i);
     const Vec3 u = beta_end_ * Vec3(dv.segment<3>(3 * i));  // m per unit step length
     const double reach = u.norm();
     for (const PlacedObstacle& o : placed_) {
-      if (gap_distance(o, x) > reach) continue;  // cannot touch within the step
+      if (gap_distance(o, x, reach) > reach) continue;  // cannot touch within the step
       const double touch = first_touch(o, x, u);
       if (touch < 1.0) step = std::min(step, kBarrierStepFraction * touch);
     }
@@ -338,15 +416,48 @@ int BarrierContact::active(const Vec3List& v, double* smallest_gap) const {
       if (model_->pinned[i]) continue;
       bool near = false;
       for (const PlacedObstacle& o : placed_) {
-        const double d = gap_distance(o, end_position(v, i));
+        const double d = gap_distance(o, end_position(v, i), dhat_);
         smallest = std::min(smallest, d);
         near = near || d < dhat_;
       }
       count += near ? 1 : 0;
     }
+    if (features_.active()) {
+      features_.for_each_gap(end_positions(v), [&](const PairGap& g) {
+        smallest = std::min(smallest, g.d);
+        count += g.d < dhat_ ? 1 : 0;
+      });
+    }
   }
   if (smallest_gap) *smallest_gap = smallest;
   return count;
+}
+
+double BarrierContact::energy_of(const Model& model, const Vec3List& x, double t) {
+  if (model.implicit.contact != ContactModel::Barrier) return 0.0;
+  const double dhat = barrier_distance(model), dt = stiffness_step(model);
+  double total = 0.0;
+  for (const Obstacle& ob : model.obstacles) {
+    const PlacedObstacle placed = place_obstacle(ob, t);
+    for (int i = 0; i < model.num_vertices(); ++i) {
+      if (model.pinned[i]) continue;
+      const double d = gap_distance(placed, x[i], dhat);
+      total += barrier_energy(d, dhat, barrier_stiffness(model.mass[i], dt));
+    }
+  }
+  energy_features_.begin(model, t);
+  if (energy_features_.active()) {
+    energy_features_.find_pairs(x, x, dhat);
+    energy_features_.for_each_gap(x, [&](const PairGap& g) {
+      total += barrier_energy(g.d, dhat, pair_stiffness(model, g, dt));
+    });
+  }
+  return total;
+}
+
+double barrier_energy_of(const Model& model, const Vec3List& x, double t) {
+  BarrierContact contact;
+  return contact.energy_of(model, x, t);
 }
 
 }  // namespace tissu

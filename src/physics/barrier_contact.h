@@ -21,11 +21,13 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <functional>
 #include <vector>
 
 #include "core/types.h"
 #include "physics/contact.h"
+#include "physics/mesh_barrier.h"
 #include "physics/model.h"
 #include "physics/obstacle.h"
 
@@ -54,8 +56,9 @@ struct Gap {
   Vec3 surface_velocity = Vec3::Zero();  // m/s
 };
 Gap obstacle_gap(const PlacedObstacle& obstacle, const Vec3& p);
-// Its d alone, the same bits, for the many vertices far from every obstacle.
-double gap_distance(const PlacedObstacle& obstacle, const Vec3& p);
+// Its d alone, the same bits, for the many vertices far from every obstacle. A mesh answers
+// gaps beyond `reach` (m) with a lower bound >= reach.
+double gap_distance(const PlacedObstacle& obstacle, const Vec3& p, double reach = INFINITY);
 
 // The barrier of one vertex at p against one obstacle: energy (J), gradient (N) and Hessian
 // (N/m), exact or (psd) with the curvature part left out.
@@ -105,7 +108,7 @@ NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, doub
 
 // The first t in [0, 1] at which p + t u reaches d = 0 of the obstacle, 1 if it never does
 // (closed form for a plane and a sphere; conservative advancement on the 1-Lipschitz
-// distance for a capped cylinder, which returns a t at or before it).
+// distance for a capped cylinder and a mesh, which returns a t at or before it).
 double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u);
 
 // The barrier contacts of one implicit step, whose equation applies the forces with weight
@@ -136,8 +139,10 @@ class BarrierContact {
   // vertex starts where it rests; one whose gap at x_n no load explains (a sheet laid on the
   // surface, at a gap of rounding) starts where the load is held (docs/implicit.md, "The
   // barrier's initial guess").
+  // Against a mesh obstacle's corners and edges (mesh_barrier.h) the guess is then drawn
+  // back toward x_n, all vertices alike, until no pair touches on the way from x_n.
   void make_feasible(Vec3List& v, const Vec3List& v_base,
-                     const std::function<const Vec3List&()>& forces) const;
+                     const std::function<const Vec3List&()>& forces);
 
   // Takes the normal damping's normals and coefficients at x_end(v), each coefficient at
   // most kMaxStepDamping m / beta_end, and holds them until the next call (Newton calls it
@@ -159,12 +164,20 @@ class BarrierContact {
   // Adds beta beta_end Hess B (PSD part), -dF/dv and the damping's -beta a df/dv_end to
   // the system's diagonal blocks, kg.
   void add_hessian(const Vec3List& v, SystemMatrix& system) const;
-  // The largest step length along dv (3V), at most 1, that keeps every vertex at d > 0:
-  // kBarrierStepFraction of the first touch.
-  double largest_step(const Vec3List& v, const Eigen::VectorXd& dv) const;
+  // The largest step length along dv (3V), at most 1, that keeps every vertex and every
+  // mesh feature pair at d > 0: kBarrierStepFraction of the first touch. It also finds the
+  // feature pairs the other calls take, those that may come within dhat on the way; the
+  // calls must stay on that way (the line search does).
+  double largest_step(const Vec3List& v, const Eigen::VectorXd& dv);
 
-  // Vertices within dhat of an obstacle at x_end(v), and the smallest gap, m.
+  // Vertices within dhat of an obstacle at x_end(v) and mesh feature pairs within dhat, and
+  // the smallest gap, m.
   int active(const Vec3List& v, double* smallest_gap = nullptr) const;
+
+  // The barrier energy of positions x at time t (s), J, vertices and mesh feature pairs: what
+  // the barrier model adds to the total energy of a state (0 without the model). Pairs the
+  // barrier cannot hold (not apart) count nothing.
+  double energy_of(const Model& model, const Vec3List& x, double t);
 
  private:
   Vec3 end_position(const Vec3List& v, int i) const {
@@ -176,6 +189,12 @@ class BarrierContact {
   // Calls visit(vertex, term) for each free vertex and obstacle within dhat at x_end(v).
   template <typename Visit>
   void for_each_term(const Vec3List& v, Visit visit) const;
+  // The end positions of all vertices at v, in x_end_ (when a mesh has features).
+  const Vec3List& end_positions(const Vec3List& v) const;
+  // Pushes the end position of each free vertex closer than dhat / 2 out (make_feasible);
+  // f: the forces at x_n once taken.
+  void push_out(Vec3List& v, const Vec3List& v_base,
+                const std::function<const Vec3List&()>& forces, const Vec3List*& f) const;
   bool enabled_ = false;
   const Model* model_ = nullptr;
   const Vec3List* x_start_ = nullptr;  // x_n, m
@@ -183,6 +202,7 @@ class BarrierContact {
   double beta_ = 0.0;      // s
   double beta_end_ = 0.0;  // s
   double dhat_ = 0.0;      // m
+  double stiffness_dt_ = 0.0;  // s, of kappa
   std::vector<PlacedObstacle> placed_;  // at the end of the step
   std::vector<PlacedObstacle> placed_start_;  // the same obstacles at the start
   std::vector<double> kappa_;           // (V) barrier stiffness, kg/s^2
@@ -197,6 +217,9 @@ class BarrierContact {
   };
   std::vector<Damping> damping_;  // frozen by freeze_damping
   const Vec3List* v_start_ = nullptr;  // v_n, m/s
+  MeshFeatureBarrier features_;         // mesh corners and edges against the cloth
+  MeshFeatureBarrier energy_features_;  // the same for energy_of
+  mutable Vec3List x_end_, x_path_;     // m
 };
 
 // kappa = m / dt^2 (kg/s^2) of a vertex of mass m (kg) for dt (s): the scene's step, or
@@ -207,8 +230,8 @@ double barrier_stiffness(double mass, double dt);
 // kappa (kg/s^2) and dhat (m); dhat where the force is not positive.
 double holding_gap(double force, double dhat, double kappa);
 
-// The barrier energy of positions x at time t (s) against the model's sphere, cylinder and
-// plane obstacles, J: what the barrier model adds to the total energy of a state.
+// BarrierContact::energy_of without a contact object at hand (its mesh features found
+// again on each call).
 double barrier_energy_of(const Model& model, const Vec3List& x, double t);
 
 // dhat of a model, m: model.implicit.barrier_distance if set (scene key

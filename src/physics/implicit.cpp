@@ -467,11 +467,12 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   std::clock_t t0 = std::clock();
   s.contacts.clear(n);
   s.placed.clear();
-  // With the barrier model only mesh obstacles are constraints; the barrier takes the others
-  // and the solve starts from end positions outside them.
+  // With the barrier model the barrier takes every obstacle (a mesh's corners and edges
+  // too) and the solve starts from end positions outside them; otherwise they are
+  // constraints.
   s.barrier.begin(model, state.x, s.x_end_base, eq.beta, eq.beta_end, eq.t, eq.t_end);
   for (const Obstacle& ob : model.obstacles) {
-    if (s.barrier.enabled() && ob.kind != ObstacleKind::Mesh) continue;
+    if (s.barrier.enabled()) break;
     s.placed.push_back(place_obstacle(ob, eq.t_end));
   }
   // The barrier's guess needs the forces at x_n where a vertex ends near an obstacle.
@@ -984,7 +985,7 @@ EnergyBalance energy_balance(const Model& model, const State& start, const State
   const bool barrier = model.implicit.contact == ContactModel::Barrier &&
                        !(moving && contact_work == ContactWork::MidpointRule);
   EnergyBalance b;
-  b.barrier = barrier ? barrier_energy_of(model, start.x, t) : 0.0;
+  b.barrier = barrier ? s.barrier.energy_of(model, start.x, t) : 0.0;
   b.kinetic = kinetic_energy(model, start.v);
   b.elastic = elastic_energy(model, start.x);
   b.start_energy = b.kinetic + b.elastic + gravity_potential(model, start.x) + b.barrier;
@@ -1003,7 +1004,7 @@ EnergyBalance energy_balance(const Model& model, const State& start, const State
     }
   }
   b.end_energy = total_energy(model, end);
-  b.end_barrier = barrier ? barrier_energy_of(model, end.x, t + h) : 0.0;
+  b.end_barrier = barrier ? s.barrier.energy_of(model, end.x, t + h) : 0.0;
   return b;
 }
 

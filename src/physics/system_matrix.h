@@ -32,6 +32,8 @@ class SystemMatrix {
 
   // Adds `block` to the diagonal block of free vertex i of the assembled matrix.
   void add_diagonal(int i, const Mat3& block);
+  // Adds `block` to block (i, j) of free vertices i and j of one triangle.
+  void add_block(int i, int j, const Mat3& block);
 
   const BlockSparseMatrix& matrix() const { return A_; }
 

@@ -1,0 +1,227 @@
+#include "physics/mesh_barrier.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "collision/closed_surface.h"
+#include "collision/primitive_distance.h"
+
+namespace tissu {
+
+// A mesh's convex corners and edges, in the surface's frame (the world at t = 0), with a
+// tree over each.
+struct MeshFeatureBarrier::Features {
+  const ClosedSurface* surface = nullptr;
+  std::vector<int> vertices;  // surface vertex ids
+  std::vector<int> edges;     // surface edge ids
+  Bvh vertex_tree, edge_tree;  // over vertices[k], edges[k]
+};
+
+namespace {
+
+// An edge is convex where the far corner of one of its triangles lies below the other's
+// plane by more than this fraction of the edge's length (flat edges of a box's face are
+// not).
+constexpr double kConvexTolerance = 1e-9;
+
+// Conservative advancement stops once a gap has shrunk to this fraction of its start.
+constexpr double kTouchFraction = 1e-3;
+constexpr int kMaxAdvances = 100;
+
+}  // namespace
+
+MeshFeatureBarrier::MeshFeatureBarrier() = default;
+MeshFeatureBarrier::~MeshFeatureBarrier() = default;
+
+const MeshFeatureBarrier::Features& MeshFeatureBarrier::features_of(const ClosedSurface& surface) {
+  for (const auto& f : cache_) {
+    if (f->surface == &surface) return *f;
+  }
+  auto f = std::make_unique<Features>();
+  f->surface = &surface;
+  const Vec3List& p = surface.vertices();
+  const TriList& tris = surface.triangles();
+  const auto& edges = surface.edges();
+  // Each edge's two triangles (closed and manifold: exactly two).
+  std::vector<std::array<int, 2>> sides(edges.size(), {-1, -1});
+  for (size_t t = 0; t < tris.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      auto& s = sides[surface.triangle_edges()[t][k]];
+      s[s[0] < 0 ? 0 : 1] = static_cast<int>(t);
+    }
+  }
+  std::vector<bool> corner(p.size(), false);
+  for (size_t e = 0; e < edges.size(); ++e) {
+    const int a = edges[e][0], b = edges[e][1];
+    if (sides[e][1] < 0) continue;
+    const Tri& other = tris[sides[e][1]];
+    int far = other[0];
+    for (int k = 0; k < 3; ++k) {
+      if (other[k] != a && other[k] != b) far = other[k];
+    }
+    const Vec3& n = surface.face_normals()[sides[e][0]];
+    const double below = -n.dot(p[far] - p[a]);  // m
+    if (below <= kConvexTolerance * (p[b] - p[a]).norm()) continue;
+    f->edges.push_back(static_cast<int>(e));
+    corner[a] = corner[b] = true;
+  }
+  for (size_t v = 0; v < p.size(); ++v) {
+    if (corner[v]) f->vertices.push_back(static_cast<int>(v));
+  }
+  std::vector<Box3> boxes;
+  for (const int v : f->vertices) boxes.emplace_back(p[v], p[v]);
+  f->vertex_tree.build(boxes, 4);
+  boxes.clear();
+  for (const int e : f->edges) {
+    Box3 box(p[edges[e][0]], p[edges[e][0]]);
+    box.extend(p[edges[e][1]]);
+    boxes.push_back(box);
+  }
+  f->edge_tree.build(boxes, 4);
+  cache_.push_back(std::move(f));
+  return *cache_.back();
+}
+
+void MeshFeatureBarrier::begin(const Model& model, double t_end) {
+  model_ = &model;
+  placed_.clear();
+  pairs_.clear();
+  left_out_ = 0;
+  for (const Obstacle& ob : model.obstacles) {
+    if (ob.kind != ObstacleKind::Mesh) continue;
+    const Features& f = features_of(*ob.surface);
+    if (f.vertices.empty()) continue;
+    placed_.push_back({&f, ob.center, ob.center_at(t_end), ob.rotation(t_end), ob.thickness});
+  }
+  if (placed_.empty() || cloth_edges_mesh_ == model.mesh_id) return;
+  std::map<std::pair<int, int>, int> seen;
+  cloth_edges_.clear();
+  for (const Tri& t : model.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
+      if (seen.emplace(std::make_pair(a, b), 0).second) cloth_edges_.push_back({a, b});
+    }
+  }
+  cloth_edges_mesh_ = model.mesh_id;
+}
+
+template <typename Position>
+PairGap MeshFeatureBarrier::gap_at(const Pair& pair, Position position) const {
+  const Placed& m = placed_[pair.mesh];
+  const ClosedSurface& surface = *m.features->surface;
+  const Vec3List& q = surface.vertices();
+  const auto local = [&](int i) -> Vec3 {
+    return m.rest_center + m.rotation.transpose() * (position(i) - m.center);
+  };
+  PairGap g;
+  Vec3 between;  // from the feature to the cloth's closest point, surface frame, m
+  if (pair.edge_edge) {
+    const auto& e = cloth_edges_[pair.cloth];
+    const auto& f = surface.edges()[pair.feature];
+    const Vec3 a = local(e[0]), b = local(e[1]);
+    const SegmentPoints s = closest_between_segments(a, b, q[f[0]], q[f[1]]);
+    between = a + s.s * (b - a) - (q[f[0]] + s.t * (q[f[1]] - q[f[0]]));
+    g.count = 2;
+    g.vertices[0] = e[0];
+    g.vertices[1] = e[1];
+    g.weights[0] = 1.0 - s.s;
+    g.weights[1] = s.s;
+  } else {
+    const Tri& t = model_->triangles[pair.cloth];
+    const TrianglePoint c = closest_on_triangle(q[pair.feature], local(t[0]), local(t[1]), local(t[2]));
+    between = c.point - q[pair.feature];
+    g.count = 3;
+    for (int k = 0; k < 3; ++k) {
+      g.vertices[k] = t[k];
+      g.weights[k] = c.weights[k];
+    }
+  }
+  const double distance = between.norm();
+  g.d = distance - m.thickness;
+  // Touching exactly (distance 0): any direction; the barrier is infinite there anyway.
+  g.normal = m.rotation * (distance > 0.0 ? Vec3(between / distance) : Vec3::UnitZ());
+  return g;
+}
+
+PairGap MeshFeatureBarrier::gap_of(const Pair& pair, const Vec3List& x) const {
+  return gap_at(pair, [&](int i) -> const Vec3& { return x[i]; });
+}
+
+void MeshFeatureBarrier::find_pairs(const Vec3List& from, const Vec3List& to, double dhat) {
+  pairs_.clear();
+  left_out_ = 0;
+  if (placed_.empty()) return;
+  const Model& model = *model_;
+  for (size_t o = 0; o < placed_.size(); ++o) {
+    const Placed& m = placed_[o];
+    const Features& f = *m.features;
+    const Mat3 back = m.rotation.transpose();
+    const auto local = [&](const Vec3& p) -> Vec3 { return m.rest_center + back * (p - m.center); };
+    const double margin = dhat + m.thickness;  // m
+    // The box of a cloth primitive's vertices over their paths, grown by the margin.
+    const auto path_box = [&](const int* ids, int count) {
+      Box3 box(local(from[ids[0]]), local(from[ids[0]]));
+      for (int k = 0; k < count; ++k) {
+        box.extend(local(from[ids[k]]));
+        box.extend(local(to[ids[k]]));
+      }
+      box.min().array() -= margin;
+      box.max().array() += margin;
+      return box;
+    };
+    const auto all_pinned = [&](const int* ids, int count) {
+      for (int k = 0; k < count; ++k) {
+        if (!model.pinned[ids[k]]) return false;
+      }
+      return true;
+    };
+    const auto keep = [&](const Pair& pair) {
+      if (gap_of(pair, from).d > 0.0) {
+        pairs_.push_back(pair);
+      } else {
+        ++left_out_;
+      }
+    };
+    const Box3& bounds = f.vertex_tree.bounds();
+    for (int t = 0; t < model.num_triangles(); ++t) {
+      const Tri& tri = model.triangles[t];
+      if (all_pinned(tri.data(), 3)) continue;
+      const Box3 box = path_box(tri.data(), 3);
+      if (!box.intersects(bounds)) continue;
+      f.vertex_tree.for_each_overlap(box, [&](int k) {
+        keep({static_cast<int>(o), f.vertices[k], t, false});
+      });
+    }
+    for (size_t e = 0; e < cloth_edges_.size(); ++e) {
+      const int* ids = cloth_edges_[e].data();
+      if (all_pinned(ids, 2)) continue;
+      const Box3 box = path_box(ids, 2);
+      if (!box.intersects(bounds)) continue;
+      f.edge_tree.for_each_overlap(box, [&](int k) {
+        keep({static_cast<int>(o), f.edges[k], static_cast<int>(e), true});
+      });
+    }
+  }
+}
+
+double MeshFeatureBarrier::first_touch(const Vec3List& x, const Vec3List& u) const {
+  double first = 1.0;
+  for (const Pair& pair : pairs_) {
+    const PairGap g0 = gap_of(pair, x);
+    if (g0.d <= 0.0) return 0.0;
+    double speed = 0.0;  // m per unit of t: the gap falls at most this fast
+    for (int k = 0; k < g0.count; ++k) speed = std::max(speed, u[g0.vertices[k]].norm());
+    if (speed <= 0.0 || g0.d >= speed * first) continue;
+    double t = 0.0, d = g0.d;
+    for (int k = 0; k < kMaxAdvances && d > kTouchFraction * g0.d; ++k) {
+      t += d / speed;
+      if (t >= first) break;
+      d = gap_at(pair, [&](int i) -> Vec3 { return x[i] + t * u[i]; }).d;
+    }
+    first = std::min(first, t);
+  }
+  return std::max(0.0, first);
+}
+
+}  // namespace tissu
