@@ -186,7 +186,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   kappa_.resize(n);
   stiffness_dt_ = stiffness_step(model);
   for (int i = 0; i < n; ++i) kappa_[i] = barrier_stiffness(model.mass[i], stiffness_dt_);
-  features_.begin(model, t_end);
+  features_.begin(model, t, t_end);
   for (const Obstacle& ob : model.obstacles) {
     placed_.push_back(place_obstacle(ob, t_end));
     placed_start_.push_back(place_obstacle(ob, t));
@@ -246,24 +246,29 @@ void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
   const Vec3List* f = nullptr;  // N, at the first close vertex: before any v changes
   push_out(v, v_base, forces, f);
   if (!features_.active()) return;
+  // Each pair's path runs from x_n, where its obstacle starts the step, to the guess, where
+  // the obstacle ends it. A guess whose paths touch is drawn back toward x_n, carried by the
+  // first touching obstacle's motion where x_n is near it (a still obstacle: x_n itself).
   const Vec3List& x_n = *x_start_;
-  for (int round = 0; round < kFeasibleRounds; ++round) {
+  for (int round = 0;; ++round) {
     const Vec3List& x_end = end_positions(v);
-    features_.find_pairs(x_n, x_end, dhat_);
-    x_path_.resize(x_n.size());
-    for (size_t i = 0; i < x_n.size(); ++i) x_path_[i] = x_end[i] - x_n[i];
-    const double touch = features_.first_touch(x_n, x_path_);
-    if (touch >= 1.0) return;
-    // Back toward the velocities that end every vertex at x_n.
+    features_.find_pairs(x_n, x_end, dhat_, /*from_start=*/true);
+    int mesh = -1;
+    const double touch = features_.first_touch_over_step(x_n, x_end, &mesh);
+    if (touch >= 1.0) break;
     const double keep = kBarrierStepFraction * touch;
     for (int i = 0; i < model_->num_vertices(); ++i) {
       if (model_->pinned[i]) continue;
-      const Vec3 stay = (x_n[i] - (*x_end_base_)[i]) / beta_end_;  // m/s
+      const Vec3 target = features_.carried(mesh, x_n[i], dhat_);             // m
+      const Vec3 stay = (target - (*x_end_base_)[i]) / beta_end_;              // m/s
       v[i] = stay + keep * (v[i] - stay);
     }
+    if (round + 1 == kFeasibleRounds) break;  // no push after the last draw-back
     push_out(v, v_base, forces, f);
   }
-  features_.find_pairs(x_n, end_positions(v), dhat_);
+  // The pairs about the guess, for the solve's first evaluations.
+  const Vec3List& x_end = end_positions(v);
+  features_.find_pairs(x_end, x_end, dhat_);
 }
 
 void BarrierContact::freeze_damping(const Vec3List& v, const Vec3List& v_n) {
@@ -300,8 +305,12 @@ double pair_stiffness(const Model& model, const PairGap& g, double dt) {
 }  // namespace
 
 const Vec3List& BarrierContact::end_positions(const Vec3List& v) const {
+  // As the step's own end positions: pinned vertices stay at x_n.
   x_end_.resize(v.size());
-  for (size_t i = 0; i < v.size(); ++i) x_end_[i] = end_position(v, static_cast<int>(i));
+  for (size_t i = 0; i < v.size(); ++i) {
+    const int k = static_cast<int>(i);
+    x_end_[i] = model_->pinned[k] ? (*x_start_)[i] : end_position(v, k);
+  }
   return x_end_;
 }
 
@@ -388,7 +397,9 @@ double BarrierContact::largest_step(const Vec3List& v, const Eigen::VectorXd& dv
   if (features_.active()) {
     const Vec3List& x = end_positions(v);
     x_path_.resize(x.size());
-    for (size_t i = 0; i < x.size(); ++i) x_path_[i] = x[i] + beta_end_ * Vec3(dv.segment<3>(3 * i));
+    for (size_t i = 0; i < x.size(); ++i) {
+      x_path_[i] = x[i] + beta_end_ * Vec3(dv.segment<3>(3 * i));
+    }
     features_.find_pairs(x, x_path_, dhat_);
     for (size_t i = 0; i < x.size(); ++i) x_path_[i] -= x[i];
     const double touch = features_.first_touch(x, x_path_);
@@ -445,7 +456,7 @@ double BarrierContact::energy_of(const Model& model, const Vec3List& x, double t
       total += barrier_energy(d, dhat, barrier_stiffness(model.mass[i], dt));
     }
   }
-  energy_features_.begin(model, t);
+  energy_features_.begin(model, t, t);
   if (energy_features_.active()) {
     energy_features_.find_pairs(x, x, dhat);
     energy_features_.for_each_gap(x, [&](const PairGap& g) {

@@ -566,12 +566,13 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     // at the start of the step) Newton goes on from the iterate, whose own direction
     // descends; a later one is taken whole, since a step without it would apply no force.
     t0 = std::clock();
+    // The barrier's line search stops short of the first touch of an obstacle. (First: it
+    // also finds the mesh pairs the merit takes, at its start as along the direction.)
+    const double longest = s.barrier.largest_step(s.v, s.dv);
     Merit merit(model, state, s, eq, plan, threads);
     const double slope = merit.start(opt.line_search);
     const double base = merit.value0();
 
-    // The barrier's line search stops short of the first touch of an obstacle.
-    const double longest = s.barrier.largest_step(s.v, s.dv);
     double alpha = longest, best_alpha = 0.0, best = base, accepted = 0.0, taken = base;
     for (int trial = 0; trial <= kMaxHalvings; ++trial, alpha *= 0.5) {
       const double value = merit.at(alpha);

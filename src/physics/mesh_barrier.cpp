@@ -12,7 +12,8 @@ namespace tissu {
 // A mesh's convex corners and edges, in the surface's frame (the world at t = 0), with a
 // tree over each.
 struct MeshFeatureBarrier::Features {
-  const ClosedSurface* surface = nullptr;
+  std::shared_ptr<const ClosedSurface> surface;  // held: its address names it in the cache
+  double least_angle = 0.0;  // rad: edges bent less take no part
   std::vector<int> vertices;  // surface vertex ids
   std::vector<int> edges;     // surface edge ids
   Bvh vertex_tree, edge_tree;  // over vertices[k], edges[k]
@@ -29,17 +30,35 @@ constexpr double kConvexTolerance = 1e-9;
 constexpr double kTouchFraction = 1e-3;
 constexpr int kMaxAdvances = 100;
 
+// The least bend (rad) of an edge whose two faces a cloth edge of length L can span so that
+// its middle dips below the surface when its ends are outside the thickness T: about
+// L theta / 4 > T. Edges bent half as much take part too; gentler ones (a finely
+// tessellated ball under coarser cloth) are left to the vertices' gaps, which they cannot
+// then be cut between. L is the cloth's longest rest edge.
+double least_bend(const Model& model, double thickness) {
+  double longest = 0.0;  // m
+  for (const Tri& t : model.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      longest = std::max(longest, (model.rest_uv[t[k]] - model.rest_uv[t[(k + 1) % 3]]).norm());
+    }
+  }
+  return longest > 0.0 ? 2.0 * thickness / longest : 0.0;
+}
+
 }  // namespace
 
 MeshFeatureBarrier::MeshFeatureBarrier() = default;
 MeshFeatureBarrier::~MeshFeatureBarrier() = default;
 
-const MeshFeatureBarrier::Features& MeshFeatureBarrier::features_of(const ClosedSurface& surface) {
+const MeshFeatureBarrier::Features& MeshFeatureBarrier::features_of(
+    const std::shared_ptr<const ClosedSurface>& shared, double least_angle) {
   for (const auto& f : cache_) {
-    if (f->surface == &surface) return *f;
+    if (f->surface == shared && f->least_angle == least_angle) return *f;
   }
+  const ClosedSurface& surface = *shared;
   auto f = std::make_unique<Features>();
-  f->surface = &surface;
+  f->surface = shared;
+  f->least_angle = least_angle;
   const Vec3List& p = surface.vertices();
   const TriList& tris = surface.triangles();
   const auto& edges = surface.edges();
@@ -63,6 +82,8 @@ const MeshFeatureBarrier::Features& MeshFeatureBarrier::features_of(const Closed
     const Vec3& n = surface.face_normals()[sides[e][0]];
     const double below = -n.dot(p[far] - p[a]);  // m
     if (below <= kConvexTolerance * (p[b] - p[a]).norm()) continue;
+    const double cosine = std::clamp(n.dot(surface.face_normals()[sides[e][1]]), -1.0, 1.0);
+    if (std::acos(cosine) <= least_angle) continue;
     f->edges.push_back(static_cast<int>(e));
     corner[a] = corner[b] = true;
   }
@@ -83,16 +104,17 @@ const MeshFeatureBarrier::Features& MeshFeatureBarrier::features_of(const Closed
   return *cache_.back();
 }
 
-void MeshFeatureBarrier::begin(const Model& model, double t_end) {
+void MeshFeatureBarrier::begin(const Model& model, double t, double t_end) {
   model_ = &model;
   placed_.clear();
   pairs_.clear();
   left_out_ = 0;
   for (const Obstacle& ob : model.obstacles) {
     if (ob.kind != ObstacleKind::Mesh) continue;
-    const Features& f = features_of(*ob.surface);
+    const Features& f = features_of(ob.surface, least_bend(model, ob.thickness));
     if (f.vertices.empty()) continue;
-    placed_.push_back({&f, ob.center, ob.center_at(t_end), ob.rotation(t_end), ob.thickness});
+    placed_.push_back({&f, ob.center, ob.center_at(t_end), ob.rotation(t_end), ob.center_at(t),
+                       ob.rotation(t), ob.thickness});
   }
   if (placed_.empty() || cloth_edges_mesh_ == model.mesh_id) return;
   std::map<std::pair<int, int>, int> seen;
@@ -106,14 +128,11 @@ void MeshFeatureBarrier::begin(const Model& model, double t_end) {
   cloth_edges_mesh_ = model.mesh_id;
 }
 
-template <typename Position>
-PairGap MeshFeatureBarrier::gap_at(const Pair& pair, Position position) const {
+template <typename Local>
+PairGap MeshFeatureBarrier::gap_at(const Pair& pair, Local local) const {
   const Placed& m = placed_[pair.mesh];
   const ClosedSurface& surface = *m.features->surface;
   const Vec3List& q = surface.vertices();
-  const auto local = [&](int i) -> Vec3 {
-    return m.rest_center + m.rotation.transpose() * (position(i) - m.center);
-  };
   PairGap g;
   Vec3 between;  // from the feature to the cloth's closest point, surface frame, m
   if (pair.edge_edge) {
@@ -129,7 +148,8 @@ PairGap MeshFeatureBarrier::gap_at(const Pair& pair, Position position) const {
     g.weights[1] = s.s;
   } else {
     const Tri& t = model_->triangles[pair.cloth];
-    const TrianglePoint c = closest_on_triangle(q[pair.feature], local(t[0]), local(t[1]), local(t[2]));
+    const TrianglePoint c =
+        closest_on_triangle(q[pair.feature], local(t[0]), local(t[1]), local(t[2]));
     between = c.point - q[pair.feature];
     g.count = 3;
     for (int k = 0; k < 3; ++k) {
@@ -145,10 +165,20 @@ PairGap MeshFeatureBarrier::gap_at(const Pair& pair, Position position) const {
 }
 
 PairGap MeshFeatureBarrier::gap_of(const Pair& pair, const Vec3List& x) const {
-  return gap_at(pair, [&](int i) -> const Vec3& { return x[i]; });
+  const Placed& m = placed_[pair.mesh];
+  return gap_at(pair, [&](int i) { return m.local(x[i]); });
 }
 
-void MeshFeatureBarrier::find_pairs(const Vec3List& from, const Vec3List& to, double dhat) {
+Vec3 MeshFeatureBarrier::carried(int mesh, const Vec3& p, double reach) const {
+  const Placed& m = placed_[mesh];
+  const Vec3 local = m.local_at_start(p);
+  const Vec3 moved = m.center + m.rotation * (local - m.rest_center);
+  const double band = m.thickness + reach + (moved - p).norm();  // m
+  return m.features->surface->closest_within(local, band).distance < band ? moved : p;
+}
+
+void MeshFeatureBarrier::find_pairs(const Vec3List& from, const Vec3List& to, double dhat,
+                                    bool from_start) {
   pairs_.clear();
   left_out_ = 0;
   if (placed_.empty()) return;
@@ -156,15 +186,16 @@ void MeshFeatureBarrier::find_pairs(const Vec3List& from, const Vec3List& to, do
   for (size_t o = 0; o < placed_.size(); ++o) {
     const Placed& m = placed_[o];
     const Features& f = *m.features;
-    const Mat3 back = m.rotation.transpose();
-    const auto local = [&](const Vec3& p) -> Vec3 { return m.rest_center + back * (p - m.center); };
+    const auto local_from = [&](int i) {
+      return from_start ? m.local_at_start(from[i]) : m.local(from[i]);
+    };
     const double margin = dhat + m.thickness;  // m
     // The box of a cloth primitive's vertices over their paths, grown by the margin.
     const auto path_box = [&](const int* ids, int count) {
-      Box3 box(local(from[ids[0]]), local(from[ids[0]]));
+      Box3 box(local_from(ids[0]), local_from(ids[0]));
       for (int k = 0; k < count; ++k) {
-        box.extend(local(from[ids[k]]));
-        box.extend(local(to[ids[k]]));
+        box.extend(local_from(ids[k]));
+        box.extend(m.local(to[ids[k]]));
       }
       box.min().array() -= margin;
       box.max().array() += margin;
@@ -177,7 +208,7 @@ void MeshFeatureBarrier::find_pairs(const Vec3List& from, const Vec3List& to, do
       return true;
     };
     const auto keep = [&](const Pair& pair) {
-      if (gap_of(pair, from).d > 0.0) {
+      if (gap_at(pair, local_from).d > 0.0) {
         pairs_.push_back(pair);
       } else {
         ++left_out_;
@@ -205,23 +236,51 @@ void MeshFeatureBarrier::find_pairs(const Vec3List& from, const Vec3List& to, do
   }
 }
 
+template <typename Start, typename End>
+double MeshFeatureBarrier::touch_along(const Pair& pair, Start start, End end,
+                                       double limit) const {
+  const PairGap g0 = gap_at(pair, start);
+  if (g0.d <= 0.0) return 0.0;
+  double speed = 0.0;  // m per unit of t: the gap falls at most this fast
+  for (int k = 0; k < g0.count; ++k) {
+    speed = std::max(speed, (end(g0.vertices[k]) - start(g0.vertices[k])).norm());
+  }
+  if (speed <= 0.0 || g0.d >= speed * limit) return limit;
+  double t = 0.0, d = g0.d;
+  for (int k = 0; k < kMaxAdvances && d > kTouchFraction * g0.d; ++k) {
+    t += d / speed;
+    if (t >= limit) return limit;
+    d = gap_at(pair, [&](int i) -> Vec3 { return start(i) + t * (end(i) - start(i)); }).d;
+  }
+  return t;
+}
+
 double MeshFeatureBarrier::first_touch(const Vec3List& x, const Vec3List& u) const {
   double first = 1.0;
   for (const Pair& pair : pairs_) {
-    const PairGap g0 = gap_of(pair, x);
-    if (g0.d <= 0.0) return 0.0;
-    double speed = 0.0;  // m per unit of t: the gap falls at most this fast
-    for (int k = 0; k < g0.count; ++k) speed = std::max(speed, u[g0.vertices[k]].norm());
-    if (speed <= 0.0 || g0.d >= speed * first) continue;
-    double t = 0.0, d = g0.d;
-    for (int k = 0; k < kMaxAdvances && d > kTouchFraction * g0.d; ++k) {
-      t += d / speed;
-      if (t >= first) break;
-      d = gap_at(pair, [&](int i) -> Vec3 { return x[i] + t * u[i]; }).d;
-    }
-    first = std::min(first, t);
+    const Placed& m = placed_[pair.mesh];
+    first = touch_along(
+        pair, [&](int i) { return m.local(x[i]); },
+        [&](int i) { return m.local(x[i] + u[i]); }, first);
   }
-  return std::max(0.0, first);
+  return first;
+}
+
+double MeshFeatureBarrier::first_touch_over_step(const Vec3List& x_n, const Vec3List& x_end,
+                                                 int* mesh) const {
+  double first = 1.0;
+  *mesh = -1;
+  for (const Pair& pair : pairs_) {
+    const Placed& m = placed_[pair.mesh];
+    const double t = touch_along(
+        pair, [&](int i) { return m.local_at_start(x_n[i]); },
+        [&](int i) { return m.local(x_end[i]); }, first);
+    if (t < first) {
+      first = t;
+      *mesh = pair.mesh;
+    }
+  }
+  return first;
 }
 
 }  // namespace tissu

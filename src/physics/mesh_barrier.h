@@ -43,17 +43,20 @@ class MeshFeatureBarrier {
   MeshFeatureBarrier();
   ~MeshFeatureBarrier();
 
-  // The model's mesh obstacles placed at t_end (s); their convex features are found once
-  // per surface. Clears the pairs.
-  void begin(const Model& model, double t_end);
+  // The model's mesh obstacles placed at the step's start t and end t_end (s); their convex
+  // features are found once per surface. Clears the pairs. The pairs' gaps are taken with
+  // the obstacles at t_end.
+  void begin(const Model& model, double t, double t_end);
   // Whether the model has a mesh obstacle.
   bool active() const { return !placed_.empty(); }
 
   // Finds the pairs that may come within dhat (m) on the straight paths of the cloth's
-  // vertices from `from` to `to` (m). A pair whose gap at `from` is not positive (the cloth
-  // already closer than the thickness, as the collision stage may leave it) is left out:
-  // the barrier cannot hold what it does not start apart.
-  void find_pairs(const Vec3List& from, const Vec3List& to, double dhat);
+  // vertices from `from` to `to` (m), in each obstacle's own frame: `from` taken with the
+  // obstacles where they end the step, or (from_start) where they start it. A pair whose
+  // gap at `from` is not positive (the cloth already closer than the thickness, as the
+  // collision stage may leave it) is left out: the barrier cannot hold what it does not
+  // start apart.
+  void find_pairs(const Vec3List& from, const Vec3List& to, double dhat, bool from_start = false);
   int num_pairs() const { return static_cast<int>(pairs_.size()); }
   int left_out() const { return left_out_; }
 
@@ -67,6 +70,14 @@ class MeshFeatureBarrier {
   // The first fraction t in [0, 1] of the paths x + t u (m) at which a pair's gap falls to
   // zero, found by conservative advancement (at or before the touch); 1 if none does.
   double first_touch(const Vec3List& x, const Vec3List& u) const;
+  // The same on the paths from x_n, where the obstacles start the step, to x_end, where they
+  // end it, straight in each obstacle's frame; *mesh receives the index (into the model's
+  // mesh obstacles that have features) of the first pair's obstacle.
+  double first_touch_over_step(const Vec3List& x_n, const Vec3List& x_end, int* mesh) const;
+  // Where p (m) ends the step when carried rigidly by that obstacle's motion, if p starts
+  // the step within the obstacle's thickness plus `reach` plus that motion of its surface
+  // (m); p itself farther away.
+  Vec3 carried(int mesh, const Vec3& p, double reach) const;
 
  private:
   struct Features;
@@ -75,7 +86,14 @@ class MeshFeatureBarrier {
     Vec3 rest_center = Vec3::Zero();  // the centre at t = 0, m
     Vec3 center = Vec3::Zero();       // at t_end, m
     Mat3 rotation = Mat3::Identity();
+    Vec3 start_center = Vec3::Zero();  // at t, m
+    Mat3 start_rotation = Mat3::Identity();
     double thickness = 0.0;  // m
+    // p (world, m) in the surface's frame with the obstacle at t_end, or at t.
+    Vec3 local(const Vec3& p) const { return rest_center + rotation.transpose() * (p - center); }
+    Vec3 local_at_start(const Vec3& p) const {
+      return rest_center + start_rotation.transpose() * (p - start_center);
+    }
   };
   struct Pair {
     int mesh = 0;        // index into placed_
@@ -83,11 +101,16 @@ class MeshFeatureBarrier {
     int cloth = 0;       // cloth triangle id, or cloth edge id (edge_edge)
     bool edge_edge = false;
   };
-  const Features& features_of(const ClosedSurface& surface);
+  const Features& features_of(const std::shared_ptr<const ClosedSurface>& surface,
+                              double least_angle);
   PairGap gap_of(const Pair& pair, const Vec3List& x) const;
-  // The pair's gap with cloth vertex i at position(i) (m).
-  template <typename Position>
-  PairGap gap_at(const Pair& pair, Position position) const;
+  // The pair's gap with cloth vertex i at local(i), in the surface's frame (m).
+  template <typename Local>
+  PairGap gap_at(const Pair& pair, Local local) const;
+  // Conservative advancement of one pair along straight paths in the surface's frame,
+  // from start(i) to end(i), up to `limit`.
+  template <typename Start, typename End>
+  double touch_along(const Pair& pair, Start start, End end, double limit) const;
 
   const Model* model_ = nullptr;
   std::vector<std::unique_ptr<Features>> cache_;

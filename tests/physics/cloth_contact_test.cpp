@@ -536,8 +536,9 @@ TEST(ClothContact, MovingMeshBallPushesACurtainAsTheAnalyticBallDoesImplicit) {
 }
 
 // A cotton sheet dropped onto a box mesh that rises at `speed` (m/s), with backward Euler
-// at 1/60 s for 0.5 s. Returns the largest principal strain over the run.
-double sheet_on_rising_box(double speed) {
+// at 1/60 s for 0.5 s and the given contact model. Returns the largest principal strain
+// over the run.
+double sheet_on_rising_box(double speed, ContactModel contact = ContactModel::Constraints) {
   constexpr double kThickness = 0.002;  // m
   Vec3List x;
   Model m = testing::grid_model(0.6, 0.6, 10, 10, 0.3, 1, &x);
@@ -546,6 +547,7 @@ double sheet_on_rising_box(double speed) {
   m.gravity = Vec3(0, 0, -9.81);
   m.integrator = Integrator::BackwardEuler;
   m.dt = 1.0 / 60.0;
+  m.implicit.contact = contact;
   Obstacle box;
   box.kind = ObstacleKind::Mesh;
   const testing::SurfaceData s =
@@ -581,6 +583,15 @@ TEST(ClothContact, SheetOnARisingMeshBoxStretchesAsOnAStillOneImplicit) {
   EXPECT_LT(still, 0.01);
   for (const double speed : {0.01, 0.1}) {
     EXPECT_LT(sheet_on_rising_box(speed), still + 0.01) << speed << " m/s";
+  }
+}
+
+// The same with the barrier, which holds the box's corners and edges inside the solve.
+TEST(ClothContact, SheetOnARisingMeshBoxStretchesAsOnAStillOneWithTheBarrier) {
+  const double still = sheet_on_rising_box(0.0, ContactModel::Barrier);
+  EXPECT_LT(still, 0.01);
+  for (const double speed : {0.01, 0.1}) {
+    EXPECT_LT(sheet_on_rising_box(speed, ContactModel::Barrier), still + 0.01) << speed << " m/s";
   }
 }
 

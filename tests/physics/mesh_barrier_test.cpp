@@ -55,7 +55,7 @@ TEST(MeshBarrier, FlatEdgesOfAFaceTakeNoPart) {
   const Vec3List x = {Vec3(-0.02, -0.02, 0.001), Vec3(0.02, -0.02, 0.001), Vec3(0.0, 0.03, 0.001)};
   const Model m = one_triangle(x);
   MeshFeatureBarrier pairs;
-  pairs.begin(m, 0.0);
+  pairs.begin(m, 0.0, 0.0);
   ASSERT_TRUE(pairs.active());
   pairs.find_pairs(x, x, 0.01);
   EXPECT_EQ(pairs.num_pairs(), 0);
@@ -67,12 +67,33 @@ TEST(MeshBarrier, FlatEdgesOfAFaceTakeNoPart) {
   EXPECT_GT(pairs.num_pairs(), 0);
 }
 
+// A ball of 1280 facets (radius 0.12 m, its edges bent by about 0.1 rad) under cloth with
+// edges up to 5.7 cm: with a 3 mm thickness no cloth edge spanning a ball edge can dip
+// through the surface while its ends keep the thickness (L theta / 4 < T), and no feature
+// takes part (the least bend counted is 2 T / L = 0.106 rad);
+// with a thickness of 1 micrometre every edge does.
+TEST(MeshBarrier, GentlyBentEdgesTakePartOnlyUnderAThinLayer) {
+  const testing::SurfaceData ball = testing::icosphere(3, 0.12);
+  const Vec3List x = {Vec3(0, 0, 0.2), Vec3(0.04, 0, 0.2), Vec3(0, 0.04, 0.2)};
+  Model m = one_triangle(x);
+  m.obstacles[0].surface =
+      std::make_shared<const ClosedSurface>(ball.vertices, ball.triangles, "test ball");
+  m.obstacles[0].center = Vec3::Zero();
+  MeshFeatureBarrier pairs;
+  m.obstacles[0].thickness = 0.003;
+  pairs.begin(m, 0.0, 0.0);
+  EXPECT_FALSE(pairs.active());
+  m.obstacles[0].thickness = 1e-6;
+  pairs.begin(m, 0.0, 0.0);
+  EXPECT_TRUE(pairs.active());
+}
+
 TEST(MeshBarrier, CornerUnderATriangleGivesTheGapPastTheThickness) {
   const double h = 0.005;  // m above the corner (0.15, 0.15, 0)
   const Vec3List x = {Vec3(0.13, 0.13, h), Vec3(0.18, 0.14, h), Vec3(0.14, 0.18, h)};
   const Model m = one_triangle(x);
   MeshFeatureBarrier pairs;
-  pairs.begin(m, 0.0);
+  pairs.begin(m, 0.0, 0.0);
   pairs.find_pairs(x, x, 0.01);
   double smallest = INFINITY;
   pairs.for_each_gap(x, [&](const PairGap& g) {
@@ -104,7 +125,7 @@ TEST(MeshBarrier, ClothEdgeAcrossABoxEdgeTouchesItWhenTheGapCloses) {
   const Vec3List x = {Vec3(0.15, -0.02, h), Vec3(0.15, 0.02, h), Vec3(0.17, 0.0, h + 0.03)};
   const Model m = one_triangle(x);
   MeshFeatureBarrier pairs;
-  pairs.begin(m, 0.0);
+  pairs.begin(m, 0.0, 0.0);
   const Vec3 dir = Vec3(-1.0, 0.0, -2.0).normalized();
   Vec3List u(3, 0.01 * dir), to = x;
   for (int i = 0; i < 3; ++i) to[i] += u[i];
@@ -122,6 +143,33 @@ TEST(MeshBarrier, ClothEdgeAcrossABoxEdgeTouchesItWhenTheGapCloses) {
   const double t = pairs.first_touch(x, u);
   EXPECT_LE(t, touch);
   EXPECT_GT(t, touch - 1e-3);
+}
+
+// A box rising by 6 mm over the step under a still triangle 5 mm above its corner: the
+// pair starts 3 mm apart (past the 2 mm thickness) and, measured in the box's frame, touches
+// halfway through the step, although at the step's end the corner is above the triangle.
+// Measured against the box where it ends the step, the pair is already crossed and left out.
+TEST(MeshBarrier, MovingBoxIsMetInItsOwnFrameOverTheStep) {
+  const double h = 0.005, dt = 1.0 / 60.0, rise = 0.006;  // m, s, m
+  const Vec3List x = {Vec3(0.13, 0.13, h), Vec3(0.18, 0.14, h), Vec3(0.14, 0.18, h)};
+  Model m = one_triangle(x);
+  m.obstacles[0].motion.velocity = Vec3(0.0, 0.0, rise / dt);
+  MeshFeatureBarrier pairs;
+  pairs.begin(m, 0.0, dt);
+  pairs.find_pairs(x, x, 0.01, /*from_start=*/false);
+  EXPECT_GT(pairs.left_out(), 0);  // the corner, through the triangle
+  pairs.find_pairs(x, x, 0.01, /*from_start=*/true);
+  EXPECT_EQ(pairs.left_out(), 0);
+  ASSERT_GT(pairs.num_pairs(), 0);
+  int mesh = -1;
+  const double t = pairs.first_touch_over_step(x, x, &mesh);
+  const double touch = (h - kThickness) / rise;
+  EXPECT_EQ(mesh, 0);
+  EXPECT_LE(t, touch * (1.0 + 1e-12));
+  EXPECT_GT(t, touch * (1.0 - 1e-3));
+  EXPECT_TRUE(pairs.carried(0, x[0], 0.01).isApprox(x[0] + Vec3(0.0, 0.0, rise), 1e-12));
+  const Vec3 far(0.0, 0.0, 0.5);  // m: 0.5 m above the box, not carried
+  EXPECT_EQ(pairs.carried(0, far, 0.01), far);
 }
 
 // The barrier's step potential and impulses with the box's features: -impulse = d
