@@ -394,7 +394,8 @@ struct EdgePull {
   double worst = INFINITY;         // m, closest vertex to the box surface over the run
 };
 
-EdgePull pull_over_edge(Integrator integrator, double dt, double seconds) {
+EdgePull pull_over_edge(Integrator integrator, double dt, double seconds,
+                        ContactModel contact = ContactModel::Constraints) {
   constexpr double kThickness = 0.003;
   Vec3List x;
   Model m = testing::grid_model(0.3, 0.2, 12, 8, 0.3, 12, &x);
@@ -405,6 +406,7 @@ EdgePull pull_over_edge(Integrator integrator, double dt, double seconds) {
   m.gravity = Vec3(0, 0, -9.81);
   m.integrator = integrator;
   m.dt = dt;
+  m.implicit.contact = contact;
   Obstacle box;
   box.kind = ObstacleKind::Mesh;
   const testing::SurfaceData s = testing::box_surface(Vec3(-0.4, -0.2, -0.3), Vec3(0.0, 0.2, 0.0));
@@ -456,6 +458,15 @@ void expect_slides_off(const EdgePull& r, double dt) {
 
 TEST(ClothContact, ClothPulledAcrossAMeshEdgeNeitherSnagsNorTunnelsImplicit) {
   expect_slides_off(pull_over_edge(Integrator::BackwardEuler, 1.0 / 60.0, 1.0), 1.0 / 60.0);
+}
+
+// With the barrier the box's edge meets the cloth's edges inside the solve.
+TEST(ClothContact, ClothPulledAcrossAMeshEdgeNeitherSnagsNorTunnelsWithTheBarrier) {
+  for (Integrator integrator : {Integrator::BackwardEuler, Integrator::Bdf2}) {
+    SCOPED_TRACE(integrator_name(integrator));
+    expect_slides_off(
+        pull_over_edge(integrator, 1.0 / 60.0, 1.0, ContactModel::Barrier), 1.0 / 60.0);
+  }
 }
 
 TEST(ClothContact, ClothPulledAcrossAMeshEdgeNeitherSnagsNorTunnelsExplicit) {
