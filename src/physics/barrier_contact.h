@@ -139,8 +139,11 @@ class BarrierContact {
   // vertex starts where it rests; one whose gap at x_n no load explains (a sheet laid on the
   // surface, at a gap of rounding) starts where the load is held (docs/implicit.md, "The
   // barrier's initial guess").
-  // Against a mesh obstacle's corners and edges (mesh_barrier.h) the guess is then drawn
-  // back toward x_n, all vertices alike, until no pair touches on the way from x_n.
+  // Against a mesh obstacle's corners and edges (mesh_barrier.h) the guess is then checked
+  // on the paths from x_n, with the obstacle where it starts the step, to the guess, with
+  // it where it ends, and drawn back to 0.9 of the first touch, toward x_n carried by that
+  // obstacle's motion near it, at most four times (then pairs still crossed are left out
+  // of the step).
   void make_feasible(Vec3List& v, const Vec3List& v_base,
                      const std::function<const Vec3List&()>& forces);
 

@@ -33,8 +33,9 @@ constexpr int kMaxAdvances = 100;
 // The least bend (rad) of an edge whose two faces a cloth edge of length L can span so that
 // its middle dips below the surface when its ends are outside the thickness T: about
 // L theta / 4 > T. Edges bent half as much take part too; gentler ones (a finely
-// tessellated ball under coarser cloth) are left to the vertices' gaps, which they cannot
-// then be cut between. L is the cloth's longest rest edge.
+// tessellated ball under coarser cloth) are left to the vertices' gaps. That holds for one
+// edge: a cloth edge across several gentle edges in a row sags by their sum (mesh_barrier.h).
+// L is the cloth's longest rest edge.
 double least_bend(const Model& model, double thickness) {
   double longest = 0.0;  // m
   for (const Tri& t : model.triangles) {

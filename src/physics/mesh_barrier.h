@@ -9,7 +9,12 @@
 // vertex i in the closest point and n the unit direction from the feature to it; the
 // Hessian is the Gauss-Newton part b'' (w w^T) (x) n n^T, positive semi-definite.
 // Only convex features take part: a flat or concave edge, and a vertex with no convex edge,
-// cannot pierce a cloth triangle whose vertices are outside the solid.
+// cannot pierce a cloth triangle whose vertices are outside the solid. Convex edges bent by
+// less than 2 T / L (thickness T, the cloth's longest rest edge L) take no part either, nor
+// do corners all of whose edges are that gentle: one such edge cannot bring a cloth edge
+// whose ends keep the thickness through the surface. Several in a row can (a curved part
+// sags by about L^2 / 8R under a cloth edge, R its radius); there only the vertices' gaps
+// and the collision stage after the solve keep the cloth out.
 // The cloth's vertices against the mesh's surface are BarrierContact's vertex gaps.
 // Tested in tests/physics/mesh_barrier_test.cpp.
 #pragma once

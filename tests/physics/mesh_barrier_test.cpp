@@ -68,10 +68,10 @@ TEST(MeshBarrier, FlatEdgesOfAFaceTakeNoPart) {
 }
 
 // A ball of 1280 facets (radius 0.12 m, its edges bent by about 0.1 rad) under cloth with
-// edges up to 5.7 cm: with a 3 mm thickness no cloth edge spanning a ball edge can dip
+// edges up to 5.7 cm: with a 3 mm thickness no cloth edge spanning one ball edge can dip
 // through the surface while its ends keep the thickness (L theta / 4 < T), and no feature
-// takes part (the least bend counted is 2 T / L = 0.106 rad);
-// with a thickness of 1 micrometre every edge does.
+// takes part (the least bend counted is 2 T / L = 0.106 rad); with a thickness of 1
+// micrometre every edge does.
 TEST(MeshBarrier, GentlyBentEdgesTakePartOnlyUnderAThinLayer) {
   const testing::SurfaceData ball = testing::icosphere(3, 0.12);
   const Vec3List x = {Vec3(0, 0, 0.2), Vec3(0.04, 0, 0.2), Vec3(0, 0.04, 0.2)};
