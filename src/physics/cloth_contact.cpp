@@ -313,17 +313,7 @@ void ClothContact::Impl::prepare_topology(const Model& m) {
   if (mesh_id == m.mesh_id && V == m.num_vertices()) return;
   mesh_id = m.mesh_id;
   V = m.num_vertices();
-  edges.clear();
-  std::vector<std::array<int, 2>> all;
-  for (const Tri& t : m.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = t[k], b = t[(k + 1) % 3];
-      all.push_back({std::min(a, b), std::max(a, b)});
-    }
-  }
-  std::sort(all.begin(), all.end());
-  all.erase(std::unique(all.begin(), all.end()), all.end());
-  edges = all;
+  edges = unique_edges(m.triangles);
   double total = 0.0;
   for (const auto& e : edges) total += (m.rest_uv[e[0]] - m.rest_uv[e[1]]).norm();
   mean_edge = edges.empty() ? 0.0 : total / edges.size();

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "collision/closed_surface.h"
 #include "collision/primitive_distance.h"
@@ -35,14 +34,8 @@ constexpr int kMaxAdvances = 100;
 // L theta / 4 > T. Edges bent half as much take part too; gentler ones (a finely
 // tessellated ball under coarser cloth) are left to the vertices' gaps. That holds for one
 // edge: a cloth edge across several gentle edges in a row sags by their sum (mesh_barrier.h).
-// L is the cloth's longest rest edge.
-double least_bend(const Model& model, double thickness) {
-  double longest = 0.0;  // m
-  for (const Tri& t : model.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      longest = std::max(longest, (model.rest_uv[t[k]] - model.rest_uv[t[(k + 1) % 3]]).norm());
-    }
-  }
+// L (m) is the cloth's longest rest edge.
+double least_bend(double longest, double thickness) {
   return longest > 0.0 ? 2.0 * thickness / longest : 0.0;
 }
 
@@ -110,23 +103,24 @@ void MeshFeatureBarrier::begin(const Model& model, double t, double t_end) {
   placed_.clear();
   pairs_.clear();
   left_out_ = 0;
+  bool any_mesh = false;
+  for (const Obstacle& ob : model.obstacles) any_mesh = any_mesh || ob.kind == ObstacleKind::Mesh;
+  if (!any_mesh) return;
+  if (cloth_edges_mesh_ != model.mesh_id) {
+    cloth_edges_ = unique_edges(model.triangles);
+    longest_edge_ = 0.0;
+    for (const auto& e : cloth_edges_) {
+      longest_edge_ = std::max(longest_edge_, (model.rest_uv[e[0]] - model.rest_uv[e[1]]).norm());
+    }
+    cloth_edges_mesh_ = model.mesh_id;
+  }
   for (const Obstacle& ob : model.obstacles) {
     if (ob.kind != ObstacleKind::Mesh) continue;
-    const Features& f = features_of(ob.surface, least_bend(model, ob.thickness));
+    const Features& f = features_of(ob.surface, least_bend(longest_edge_, ob.thickness));
     if (f.vertices.empty()) continue;
     placed_.push_back({&f, ob.center, ob.center_at(t_end), ob.rotation(t_end), ob.center_at(t),
                        ob.rotation(t), ob.thickness});
   }
-  if (placed_.empty() || cloth_edges_mesh_ == model.mesh_id) return;
-  std::map<std::pair<int, int>, int> seen;
-  cloth_edges_.clear();
-  for (const Tri& t : model.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
-      if (seen.emplace(std::make_pair(a, b), 0).second) cloth_edges_.push_back({a, b});
-    }
-  }
-  cloth_edges_mesh_ = model.mesh_id;
 }
 
 template <typename Local>

@@ -120,7 +120,8 @@ class MeshFeatureBarrier {
   const Model* model_ = nullptr;
   std::vector<std::unique_ptr<Features>> cache_;
   std::vector<std::array<int, 2>> cloth_edges_;  // the cloth's edges, vertex ids
-  uint64_t cloth_edges_mesh_ = 0;
+  double longest_edge_ = 0.0;                    // the cloth's longest rest edge, m
+  uint64_t cloth_edges_mesh_ = 0;                // the model mesh_id they are of
   std::vector<Placed> placed_;
   std::vector<Pair> pairs_;
   int left_out_ = 0;

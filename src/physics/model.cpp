@@ -1,5 +1,6 @@
 #include "physics/model.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <string>
@@ -97,6 +98,20 @@ double mean_rest_edge(const Model& model) {
     for (int e = 0; e < 3; ++e) edges += (model.rest_uv[tri[e]] - model.rest_uv[tri[(e + 1) % 3]]).norm();
   }
   return model.num_triangles() > 0 ? edges / (3.0 * model.num_triangles()) : 0.0;
+}
+
+std::vector<std::array<int, 2>> unique_edges(const TriList& triangles) {
+  std::vector<std::array<int, 2>> edges;
+  edges.reserve(3 * triangles.size());
+  for (const Tri& t : triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
 }
 
 }  // namespace tissu

@@ -4,6 +4,7 @@
 // A step takes `const Model&` and `State&` (see step.h).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -188,5 +189,8 @@ void precompute_rest(Model& model);
 // The mean length of the triangles' rest sides (an inner edge counted once per triangle),
 // m; 0 without triangles.
 double mean_rest_edge(const Model& model);
+
+// The mesh's edges, each once as (a, b) with a < b, in ascending order.
+std::vector<std::array<int, 2>> unique_edges(const TriList& triangles);
 
 }  // namespace tissu
