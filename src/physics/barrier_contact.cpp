@@ -37,6 +37,19 @@ double stiffness_step(const Model& model) {
                                                    : model.dt;
 }
 
+// kappa of a mesh feature pair or self pair: that of the mean mass of its free vertices,
+// kg/s^2, for the step dt (s).
+double pair_stiffness(const Model& model, const PairGap& g, double dt) {
+  double mass = 0.0;
+  int free = 0;
+  for (int k = 0; k < g.count; ++k) {
+    if (model.pinned[g.vertices[k]]) continue;
+    mass += model.mass[g.vertices[k]];
+    ++free;
+  }
+  return free > 0 ? barrier_stiffness(mass / free, dt) : 0.0;
+}
+
 // Times make_feasible draws the guess back before it gives up on the mesh feature pairs
 // (each round stops short of the first touch, so one usually suffices).
 constexpr int kFeasibleRounds = 4;
@@ -174,6 +187,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   placed_.clear();
   placed_start_.clear();
   friction_.clear();
+  pair_friction_.clear();
   damping_.clear();
   if (!enabled_) return;
   model_ = &model;
@@ -187,6 +201,20 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   stiffness_dt_ = stiffness_step(model);
   for (int i = 0; i < n; ++i) kappa_[i] = barrier_stiffness(model.mass[i], stiffness_dt_);
   features_.begin(model, t, t_end);
+  self_.begin(model);
+  coupling_.clear();
+  pair_friction_.clear();
+  if (self_.active() && model.self_collision->friction > 0.0) {
+    // Lagged friction between layers: each self pair's normal force at x_n over the step.
+    self_.find_pairs(x_n, x_n, dhat_);
+    const double mu = model.self_collision->friction;
+    self_.for_each_gap(x_n, [&](const PairGap& g) {
+      if (g.d <= 0.0 || g.d >= dhat_) return;
+      const double kappa = pair_stiffness(model, g, stiffness_step(model));
+      const double normal_impulse = -beta_ * barrier_derivative(g.d, dhat_, kappa);  // kg*m/s
+      pair_friction_.push_back({g, SlidingFriction{g.normal, Vec3::Zero(), mu * normal_impulse}});
+    });
+  }
   for (const Obstacle& ob : model.obstacles) {
     placed_.push_back(place_obstacle(ob, t_end));
     placed_start_.push_back(place_obstacle(ob, t));
@@ -204,7 +232,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
                                               ob.friction * normal_impulse}});
     }
   }
-  if (placed_.empty()) enabled_ = false;
+  if (placed_.empty() && !self_.active()) enabled_ = false;
 }
 
 double holding_gap(double force, double dhat, double kappa) {
@@ -245,22 +273,29 @@ void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
   if (!enabled_) return;
   const Vec3List* f = nullptr;  // N, at the first close vertex: before any v changes
   push_out(v, v_base, forces, f);
-  if (!features_.active()) return;
+  if (!has_pairs()) return;
   // Each pair's path runs from x_n, where its obstacle starts the step, to the guess, where
   // the obstacle ends it. A guess whose paths touch is drawn back toward x_n, carried by the
-  // first touching obstacle's motion where x_n is near it (a still obstacle: x_n itself).
+  // first touching obstacle's motion where x_n is near it (a still obstacle, or the cloth
+  // itself: x_n).
   const Vec3List& x_n = *x_start_;
   for (int round = 0;; ++round) {
     const Vec3List& x_end = end_positions(v);
     features_.find_pairs(x_n, x_end, dhat_, /*from_start=*/true);
     int mesh = -1;
-    const double touch = features_.first_touch_over_step(x_n, x_end, &mesh);
+    double touch = features_.first_touch_over_step(x_n, x_end, &mesh);
+    self_.find_pairs(x_n, x_end, dhat_);
+    const double self_touch = self_.first_touch(x_n, x_end);
+    if (self_touch < touch) {
+      touch = self_touch;
+      mesh = -1;
+    }
     if (touch >= 1.0) break;
     const double keep = kBarrierStepFraction * touch;
     for (int i = 0; i < model_->num_vertices(); ++i) {
       if (model_->pinned[i]) continue;
-      const Vec3 target = features_.carried(mesh, x_n[i], dhat_);             // m
-      const Vec3 stay = (target - (*x_end_base_)[i]) / beta_end_;              // m/s
+      const Vec3 target = mesh >= 0 ? features_.carried(mesh, x_n[i], dhat_) : x_n[i];  // m
+      const Vec3 stay = (target - (*x_end_base_)[i]) / beta_end_;                   // m/s
       v[i] = stay + keep * (v[i] - stay);
     }
     if (round + 1 == kFeasibleRounds) break;  // no push after the last draw-back
@@ -269,6 +304,7 @@ void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
   // The pairs about the guess, for the solve's first evaluations.
   const Vec3List& x_end = end_positions(v);
   features_.find_pairs(x_end, x_end, dhat_);
+  self_.find_pairs(x_end, x_end, dhat_);
 }
 
 void BarrierContact::freeze_damping(const Vec3List& v, const Vec3List& v_n) {
@@ -288,22 +324,6 @@ void BarrierContact::freeze_damping(const Vec3List& v, const Vec3List& v_n) {
   }
 }
 
-namespace {
-
-// kappa of a feature pair: that of the mean mass of its free vertices, kg/s^2.
-double pair_stiffness(const Model& model, const PairGap& g, double dt) {
-  double mass = 0.0;
-  int free = 0;
-  for (int k = 0; k < g.count; ++k) {
-    if (model.pinned[g.vertices[k]]) continue;
-    mass += model.mass[g.vertices[k]];
-    ++free;
-  }
-  return free > 0 ? barrier_stiffness(mass / free, dt) : 0.0;
-}
-
-}  // namespace
-
 const Vec3List& BarrierContact::end_positions(const Vec3List& v) const {
   // As the step's own end positions: pinned vertices stay at x_n.
   x_end_.resize(v.size());
@@ -312,6 +332,46 @@ const Vec3List& BarrierContact::end_positions(const Vec3List& v) const {
     x_end_[i] = model_->pinned[k] ? (*x_start_)[i] : end_position(v, k);
   }
   return x_end_;
+}
+
+void SelfCoupling::add_product(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  for (const Term& term : terms_) {
+    const PairGap& g = term.gap;
+    // K times the sum of w_k x_k over each piece.
+    Vec3 sum[2] = {Vec3::Zero(), Vec3::Zero()};
+    for (int k = 0; k < g.count; ++k) {
+      sum[k < g.split ? 0 : 1] += g.weights[k] * Vec3(x.segment<3>(3 * g.vertices[k]));
+    }
+    const Vec3 pushed[2] = {term.block * sum[0], term.block * sum[1]};
+    for (int k = 0; k < g.count; ++k) {
+      y.segment<3>(3 * g.vertices[k]) += g.weights[k] * pushed[k < g.split ? 1 : 0];
+    }
+  }
+}
+
+Vec3 BarrierContact::PairFriction::relative(const Vec3List& v) const {
+  Vec3 u = Vec3::Zero();
+  for (int k = 0; k < pair.count; ++k) u += pair.weights[k] * v[pair.vertices[k]];
+  return u;
+}
+
+void BarrierContact::add_pair_blocks(PairGap g, const Mat3& block, SystemMatrix& system) {
+  for (int k = 0; k < g.count; ++k) {
+    if (model_->pinned[g.vertices[k]]) g.weights[k] = 0.0;
+  }
+  // Within each piece into the pattern; between the pieces by product.
+  const auto add_piece = [&](int first, int end) {
+    for (int k = first; k < end; ++k) {
+      if (g.weights[k] == 0.0) continue;
+      for (int l = first; l < end; ++l) {
+        if (g.weights[l] == 0.0) continue;
+        system.add_block(g.vertices[k], g.vertices[l], (g.weights[k] * g.weights[l]) * block);
+      }
+    }
+  };
+  add_piece(0, g.split);
+  add_piece(g.split, g.count);
+  if (g.split < g.count) coupling_.add(g, block);
 }
 
 double BarrierContact::potential(const Vec3List& v) const {
@@ -324,16 +384,26 @@ double BarrierContact::potential(const Vec3List& v) const {
       total += barrier_energy(gap_distance(o, x, dhat_), dhat_, kappa_[i]);
     }
   }
-  if (features_.active()) {
-    features_.for_each_gap(end_positions(v), [&](const PairGap& g) {
-      total += barrier_energy(g.d, dhat_, pair_stiffness(*model_, g, stiffness_dt_));
+  if (has_pairs()) {
+    for_each_pair(end_positions(v), [&](const PairGap& g, double kappa) {
+      total += barrier_energy(g.d, dhat_, kappa);
     });
   }
   total *= beta_ / beta_end_;
   for (const Friction& f : friction_) total += f.law.potential(v[f.vertex]);
+  for (const PairFriction& f : pair_friction_) total += f.law.potential(f.relative(v));
   const double weight = beta_ * beta_ / beta_end_;  // beta / a, s
   for (const Damping& d : damping_) total += weight * d.law.potential(end_velocity(v, d.vertex));
   return total;
+}
+
+template <typename Visit>
+void BarrierContact::for_each_pair(const Vec3List& x, Visit visit) const {
+  const auto with_stiffness = [&](const PairGap& g) {
+    visit(g, pair_stiffness(*model_, g, stiffness_dt_));
+  };
+  features_.for_each_gap(x, with_stiffness);
+  self_.for_each_gap(x, with_stiffness);
 }
 
 template <typename Visit>
@@ -351,11 +421,10 @@ void BarrierContact::for_each_term(const Vec3List& v, Visit visit) const {
 void BarrierContact::add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const {
   if (!enabled_) return;
   for_each_term(v, [&](int i, const BarrierTerm& b) { rhs.segment<3>(3 * i) -= beta_ * b.gradient; });
-  if (features_.active()) {
-    features_.for_each_gap(end_positions(v), [&](const PairGap& g) {
+  if (has_pairs()) {
+    for_each_pair(end_positions(v), [&](const PairGap& g, double kappa) {
       if (g.d <= 0.0 || g.d >= dhat_) return;
-      const double slope =
-          barrier_derivative(g.d, dhat_, pair_stiffness(*model_, g, stiffness_dt_));  // N
+      const double slope = barrier_derivative(g.d, dhat_, kappa);  // N
       for (int k = 0; k < g.count; ++k) {
         if (model_->pinned[g.vertices[k]]) continue;
         rhs.segment<3>(3 * g.vertices[k]) -= (beta_ * slope * g.weights[k]) * g.normal;
@@ -363,29 +432,32 @@ void BarrierContact::add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const
     });
   }
   for (const Friction& f : friction_) rhs.segment<3>(3 * f.vertex) += f.law.impulse(v[f.vertex]);
+  for (const PairFriction& f : pair_friction_) {
+    const Vec3 impulse = f.law.impulse(f.relative(v));  // on the relative velocity, kg*m/s
+    for (int k = 0; k < f.pair.count; ++k) {
+      if (model_->pinned[f.pair.vertices[k]]) continue;
+      rhs.segment<3>(3 * f.pair.vertices[k]) += f.pair.weights[k] * impulse;
+    }
+  }
   for (const Damping& d : damping_) {
     rhs.segment<3>(3 * d.vertex) += beta_ * d.law.force(end_velocity(v, d.vertex));
   }
 }
 
-void BarrierContact::add_hessian(const Vec3List& v, SystemMatrix& system) const {
+void BarrierContact::add_hessian(const Vec3List& v, SystemMatrix& system) {
+  coupling_.clear();
   if (!enabled_) return;
   const double scale = beta_ * beta_end_;  // s^2
   for_each_term(v, [&](int i, const BarrierTerm& b) { system.add_diagonal(i, scale * b.hessian); });
-  if (features_.active()) {
-    features_.for_each_gap(end_positions(v), [&](const PairGap& g) {
+  if (has_pairs()) {
+    for_each_pair(end_positions(v), [&](const PairGap& g, double kappa) {
       if (g.d <= 0.0 || g.d >= dhat_) return;
-      const double curve =
-          barrier_second_derivative(g.d, dhat_, pair_stiffness(*model_, g, stiffness_dt_));
-      const Mat3 nn = (scale * curve) * g.normal * g.normal.transpose();  // kg
-      for (int k = 0; k < g.count; ++k) {
-        if (model_->pinned[g.vertices[k]]) continue;
-        for (int l = 0; l < g.count; ++l) {
-          if (model_->pinned[g.vertices[l]]) continue;
-          system.add_block(g.vertices[k], g.vertices[l], (g.weights[k] * g.weights[l]) * nn);
-        }
-      }
+      const double c = scale * barrier_second_derivative(g.d, dhat_, kappa);  // kg
+      add_pair_blocks(g, c * g.normal * g.normal.transpose(), system);
     });
+  }
+  for (const PairFriction& f : pair_friction_) {
+    add_pair_blocks(f.pair, f.law.jacobian(f.relative(v)), system);
   }
   for (const Friction& f : friction_) system.add_diagonal(f.vertex, f.law.jacobian(v[f.vertex]));
   for (const Damping& d : damping_) system.add_diagonal(d.vertex, -beta_end_ * d.law.velocity_jacobian());
@@ -394,15 +466,17 @@ void BarrierContact::add_hessian(const Vec3List& v, SystemMatrix& system) const 
 double BarrierContact::largest_step(const Vec3List& v, const Eigen::VectorXd& dv) {
   if (!enabled_) return 1.0;
   double step = 1.0;
-  if (features_.active()) {
+  if (has_pairs()) {
     const Vec3List& x = end_positions(v);
     x_path_.resize(x.size());
     for (size_t i = 0; i < x.size(); ++i) {
-      x_path_[i] = x[i] + beta_end_ * Vec3(dv.segment<3>(3 * i));
+      x_path_[i] = model_->pinned[i] ? x[i] : Vec3(x[i] + beta_end_ * Vec3(dv.segment<3>(3 * i)));
     }
     features_.find_pairs(x, x_path_, dhat_);
+    self_.find_pairs(x, x_path_, dhat_);
+    double touch = self_.first_touch(x, x_path_);
     for (size_t i = 0; i < x.size(); ++i) x_path_[i] -= x[i];
-    const double touch = features_.first_touch(x, x_path_);
+    touch = std::min(touch, features_.first_touch(x, x_path_));
     if (touch < 1.0) step = kBarrierStepFraction * touch;
   }
   for (int i = 0; i < model_->num_vertices(); ++i) {
@@ -433,8 +507,8 @@ int BarrierContact::active(const Vec3List& v, double* smallest_gap) const {
       }
       count += near ? 1 : 0;
     }
-    if (features_.active()) {
-      features_.for_each_gap(end_positions(v), [&](const PairGap& g) {
+    if (has_pairs()) {
+      for_each_pair(end_positions(v), [&](const PairGap& g, double) {
         smallest = std::min(smallest, g.d);
         count += g.d < dhat_ ? 1 : 0;
       });
@@ -456,12 +530,18 @@ double BarrierContact::energy_of(const Model& model, const Vec3List& x, double t
       total += barrier_energy(d, dhat, barrier_stiffness(model.mass[i], dt));
     }
   }
+  const auto add_pair = [&](const PairGap& g) {
+    total += barrier_energy(g.d, dhat, pair_stiffness(model, g, dt));
+  };
   energy_features_.begin(model, t, t);
   if (energy_features_.active()) {
     energy_features_.find_pairs(x, x, dhat);
-    energy_features_.for_each_gap(x, [&](const PairGap& g) {
-      total += barrier_energy(g.d, dhat, pair_stiffness(model, g, dt));
-    });
+    energy_features_.for_each_gap(x, add_pair);
+  }
+  energy_self_.begin(model);
+  if (energy_self_.active()) {
+    energy_self_.find_pairs(x, x, dhat);
+    energy_self_.for_each_gap(x, add_pair);
   }
   return total;
 }

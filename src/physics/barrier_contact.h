@@ -15,7 +15,8 @@
 // incremental potential. The line search never goes past 0.9 of the step at which a
 // vertex's straight path first reaches d = 0 (largest_step), so no vertex ends inside.
 // Friction is IPC's lagged smoothed Coulomb friction (SlidingFriction, contact.h) with the
-// barrier's normal force at the start of the step as the normal impulse. A normal damping
+// barrier's normal force at the start of the step as the normal impulse, for vertices
+// against obstacles and between the layers of a self pair. A normal damping
 // inside the band (NormalDamping) makes a landing inelastic.
 // Tests: tests/physics/barrier_contact_test.cpp.
 #pragma once
@@ -27,9 +28,11 @@
 
 #include "core/types.h"
 #include "physics/contact.h"
+#include "physics/linear_solver.h"
 #include "physics/mesh_barrier.h"
 #include "physics/model.h"
 #include "physics/obstacle.h"
+#include "physics/self_barrier.h"
 
 namespace tissu {
 
@@ -111,6 +114,29 @@ NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, doub
 // distance for a capped cylinder and a mesh, which returns a t at or before it).
 double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u);
 
+// The barrier's matrix blocks between two pieces of cloth that share no triangle (a
+// self pair, self_barrier.h), which the step's matrix pattern does not hold. A pair's
+// terms act on the weighted sum of its vertices' motions, u = sum_k w_k x_k, through a
+// symmetric positive semi-definite 3x3 block K (the barrier's c n n^T, the friction's
+// Jacobian): their matrix is (w w^T) (x) K. The pattern takes the blocks within each piece
+// (positive semi-definite too, so the preconditioner's factor stays positive definite),
+// this the rest, w_k w_l K for k and l in different pieces, by product.
+class SelfCoupling : public MatrixAddition {
+ public:
+  void clear() { terms_.clear(); }
+  bool empty() const { return terms_.empty(); }
+  // A pair's vertices and weights (its pinned vertices' weights zeroed) and K, kg.
+  void add(const PairGap& gap, const Mat3& block) { terms_.push_back({gap, block}); }
+  void add_product(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
+
+ private:
+  struct Term {
+    PairGap gap;
+    Mat3 block = Mat3::Zero();
+  };
+  std::vector<Term> terms_;
+};
+
 // The barrier contacts of one implicit step, whose equation applies the forces with weight
 // beta: M (v - v_base) = beta f + ... End positions are x_end(v) = x_end_base + beta_end v;
 // the barrier acts on them like the other forces, so its impulse on the step equation is
@@ -143,7 +169,7 @@ class BarrierContact {
   // on the paths from x_n, with the obstacle where it starts the step, to the guess, with
   // it where it ends, and drawn back to 0.9 of the first touch, toward x_n carried by that
   // obstacle's motion near it, at most four times (then pairs still crossed are left out
-  // of the step).
+  // of the step). Self pairs are checked on the same paths and drawn back toward x_n.
   void make_feasible(Vec3List& v, const Vec3List& v_base,
                      const std::function<const Vec3List&()>& forces);
 
@@ -165,19 +191,22 @@ class BarrierContact {
   // impulses beta f(v_end) to rhs (3V), kg*m/s.
   void add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const;
   // Adds beta beta_end Hess B (PSD part), -dF/dv and the damping's -beta a df/dv_end to
-  // the system's diagonal blocks, kg.
-  void add_hessian(const Vec3List& v, SystemMatrix& system) const;
+  // the system's blocks, kg; the blocks between two pieces of cloth in a self pair go to
+  // coupling(), which the solve adds to the matrix.
+  void add_hessian(const Vec3List& v, SystemMatrix& system);
+  // The matrix terms of the last add_hessian outside the pattern; null when there are none.
+  const MatrixAddition* coupling() const { return coupling_.empty() ? nullptr : &coupling_; }
   // The largest step length along dv (3V), at most 1, that keeps every vertex and every
-  // mesh feature pair at d > 0: kBarrierStepFraction of the first touch. It also finds the
-  // feature pairs the other calls take, those that may come within dhat on the way; the
-  // calls must stay on that way (the line search does).
+  // mesh feature pair and self pair at d > 0: kBarrierStepFraction of the first touch. It
+  // also finds the pairs the other calls take, those that may come within dhat on the way;
+  // the calls must stay on that way (the line search does).
   double largest_step(const Vec3List& v, const Eigen::VectorXd& dv);
 
-  // Vertices within dhat of an obstacle at x_end(v) and mesh feature pairs within dhat, and
-  // the smallest gap, m.
+  // Vertices within dhat of an obstacle at x_end(v), mesh feature pairs and self pairs
+  // within dhat, and the smallest gap, m.
   int active(const Vec3List& v, double* smallest_gap = nullptr) const;
 
-  // The barrier energy of positions x at time t (s), J, vertices and mesh feature pairs: what
+  // The barrier energy of positions x at time t (s), J, vertices and pairs: what
   // the barrier model adds to the total energy of a state (0 without the model). Pairs the
   // barrier cannot hold (not apart) count nothing.
   double energy_of(const Model& model, const Vec3List& x, double t);
@@ -192,6 +221,10 @@ class BarrierContact {
   // Calls visit(vertex, term) for each free vertex and obstacle within dhat at x_end(v).
   template <typename Visit>
   void for_each_term(const Vec3List& v, Visit visit) const;
+  // Calls visit(gap, kappa) for each mesh feature pair and self pair at positions x.
+  template <typename Visit>
+  void for_each_pair(const Vec3List& x, Visit visit) const;
+  bool has_pairs() const { return features_.active() || self_.active(); }
   // The end positions of all vertices at v, in x_end_ (when a mesh has features).
   const Vec3List& end_positions(const Vec3List& v) const;
   // Pushes the end position of each free vertex closer than dhat / 2 out (make_feasible);
@@ -214,6 +247,17 @@ class BarrierContact {
     SlidingFriction law;
   };
   std::vector<Friction> friction_;
+  // Friction between the two pieces of a self pair within dhat at x_n, on the relative
+  // velocity of its closest points, sum_k w_k v_k, with the weights and normal of x_n.
+  struct PairFriction {
+    PairGap pair;
+    SlidingFriction law;
+    Vec3 relative(const Vec3List& v) const;  // m/s
+  };
+  std::vector<PairFriction> pair_friction_;
+  // Adds (w w^T) (x) K of a self pair to the system: blocks within each piece, the rest to
+  // coupling_.
+  void add_pair_blocks(PairGap pair, const Mat3& block, SystemMatrix& system);
   struct Damping {
     int vertex = -1;
     NormalDamping law;
@@ -222,6 +266,9 @@ class BarrierContact {
   const Vec3List* v_start_ = nullptr;  // v_n, m/s
   MeshFeatureBarrier features_;         // mesh corners and edges against the cloth
   MeshFeatureBarrier energy_features_;  // the same for energy_of
+  SelfBarrier self_;                    // the cloth against itself
+  SelfBarrier energy_self_;             // the same for energy_of
+  SelfCoupling coupling_;
   mutable Vec3List x_end_, x_path_;     // m
 };
 

@@ -253,7 +253,7 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
   auto pcg = [&](const Preconditioner& p, int max_iterations) {
     const std::clock_t t0 = std::clock();
     const CgResult r = solve_pcg(A, p, s.rhs, opt.cg_tolerance, max_iterations, s.dv, s.cg,
-                                 &s.weights, constraints);
+                                 &s.weights, constraints, s.barrier.coupling());
     report.seconds_cg += processor_seconds_since(t0);
     return r;
   };

@@ -272,8 +272,13 @@ void CholeskyPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z)
 // vector it builds is kept in the filter's range.
 CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Eigen::VectorXd& b,
                    double tolerance, int max_iterations, Eigen::VectorXd& x, CgWorkspace& work,
-                   const Eigen::VectorXd* weights, const SolveFilter* filter) {
+                   const Eigen::VectorXd* weights, const SolveFilter* filter,
+                   const MatrixAddition* addition) {
   CgResult result;
+  auto product = [&](const Eigen::VectorXd& y, Eigen::VectorXd& Ay) {
+    A.multiply(y, Ay, work.threads);
+    if (addition) addition->add_product(y, Ay);
+  };
   auto norm = [weights](const Eigen::VectorXd& y) {
     return weights ? std::sqrt(y.cwiseAbs2().dot(*weights)) : y.norm();
   };
@@ -294,7 +299,7 @@ CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Ei
     result.converged = true;
     return result;
   }
-  A.multiply(x, Ap, work.threads);
+  product(x, Ap);
   r = b - Ap;
   keep(r);
   double r_norm = norm(r);
@@ -316,7 +321,7 @@ CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Ei
   double best_norm = r_norm;
   bool best_kept = false;  // best_x holds the iterate whose residual is best_norm
   while (result.iterations < max_iterations) {
-    A.multiply(p, Ap, work.threads);
+    product(p, Ap);
     keep(Ap);
     const double pAp = p.dot(Ap);
     if (!(pAp > 0.0)) {

@@ -174,15 +174,24 @@ class SolveFilter {
   virtual void apply(Eigen::VectorXd& y) const = 0;
 };
 
+// Terms of a system matrix that its block pattern does not hold (couplings between
+// vertices that share no triangle), applied by product: add_product adds E x to y (3V).
+class MatrixAddition {
+ public:
+  virtual ~MatrixAddition() = default;
+  virtual void add_product(const Eigen::VectorXd& x, Eigen::VectorXd& y) const = 0;
+};
+
 // Preconditioned conjugate gradients for symmetric positive definite A: solves A x = b to
 // |b - A x|_W <= tolerance |b|_W, starting from the x given (e.g. zero or a warm start),
 // where |y|_W^2 = sum_k w_k y_k^2 with the weights w (3V) when given, else the 2-norm.
 // Stops after max_iterations. With a filter S it solves S A S x = S b for x = S x in the
 // range of S (the prefiltered PCG of Tamstorf, Jones & McCormick 2015, with homogeneous
 // constraints): the filtered directions of x stay zero, and the residual is measured on
-// the others.
+// the others. With an addition E the matrix is A + E (A + E symmetric positive definite).
 CgResult solve_pcg(const BlockSparseMatrix& A, const Preconditioner& P, const Eigen::VectorXd& b,
                    double tolerance, int max_iterations, Eigen::VectorXd& x, CgWorkspace& work,
-                   const Eigen::VectorXd* weights = nullptr, const SolveFilter* filter = nullptr);
+                   const Eigen::VectorXd* weights = nullptr, const SolveFilter* filter = nullptr,
+                   const MatrixAddition* addition = nullptr);
 
 }  // namespace tissu

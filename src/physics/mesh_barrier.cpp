@@ -136,7 +136,7 @@ PairGap MeshFeatureBarrier::gap_at(const Pair& pair, Local local) const {
     const Vec3 a = local(e[0]), b = local(e[1]);
     const SegmentPoints s = closest_between_segments(a, b, q[f[0]], q[f[1]]);
     between = a + s.s * (b - a) - (q[f[0]] + s.t * (q[f[1]] - q[f[0]]));
-    g.count = 2;
+    g.count = g.split = 2;
     g.vertices[0] = e[0];
     g.vertices[1] = e[1];
     g.weights[0] = 1.0 - s.s;
@@ -146,7 +146,7 @@ PairGap MeshFeatureBarrier::gap_at(const Pair& pair, Local local) const {
     const TrianglePoint c =
         closest_on_triangle(q[pair.feature], local(t[0]), local(t[1]), local(t[2]));
     between = c.point - q[pair.feature];
-    g.count = 3;
+    g.count = g.split = 3;
     for (int k = 0; k < 3; ++k) {
       g.vertices[k] = t[k];
       g.weights[k] = c.weights[k];

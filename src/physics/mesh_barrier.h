@@ -33,14 +33,20 @@ namespace tissu {
 
 class ClosedSurface;
 
-// One pair's gap at given cloth positions: the cloth vertices it moves, their weights in
-// the closest point, and the unit normal from the feature toward the cloth (world).
+// One pair's gap at given cloth positions: the cloth vertices it moves and their weights,
+// so that d gap / d x_k = weights[k] normal (world, unit). Against an obstacle's feature the
+// normal points from the feature toward the cloth and the weights are those of the cloth's
+// closest point; between two pieces of cloth (self_barrier.h) the normal points from the
+// second piece toward the first and the second's weights are negative.
 struct PairGap {
   double d = 0.0;  // m, past the thickness
   Vec3 normal = Vec3::UnitZ();
-  int vertices[3] = {-1, -1, -1};
-  double weights[3] = {0.0, 0.0, 0.0};
-  int count = 0;  // 3 for a cloth triangle, 2 for a cloth edge
+  int vertices[4] = {-1, -1, -1, -1};
+  double weights[4] = {0.0, 0.0, 0.0, 0.0};
+  int count = 0;  // 3 for a cloth triangle, 2 for a cloth edge, 4 for two pieces of cloth
+  // Vertices [0, split) and [split, count) belong to two pieces of cloth whose vertices
+  // share no triangle: the step's matrix has no blocks between them (count: one piece).
+  int split = 0;
 };
 
 class MeshFeatureBarrier {

@@ -10,6 +10,7 @@
 #include "collision/primitive_distance.h"
 #include "collision/crossings.h"
 #include "collision/test_surfaces.h"
+#include "physics/barrier_contact.h"
 #include "physics/bending.h"
 #include "physics/cloth_contact.h"
 #include "physics/diagnostics.h"
@@ -55,18 +56,29 @@ Model two_sheets(double w, int n, double z, double gap, Vec3List* x) {
 
 bool crosses(const Model& m, const Vec3List& x) { return self_crossings(x, m.triangles, 1).any(); }
 
+// Two 30 cm sheets 4 cm apart, the lower 3 cm above the ground, falling under gravity
+// with air damping, layers `thickness` (m) apart with friction 0.3, on ground with
+// friction 0.5, stepped by `integrator` at dt (s) with `contact`.
+Model falling_stack(double thickness, Integrator integrator, double dt, ContactModel contact,
+                    Vec3List* x) {
+  Model m = two_sheets(0.3, 8, 0.03, 0.04, x);
+  m.gravity = Vec3(0, 0, -9.81);
+  m.air_damping = 0.5;
+  m.integrator = integrator;
+  m.dt = dt;
+  m.implicit.contact = contact;
+  m.obstacles = {ground()};
+  m.obstacles[0].friction = 0.5;
+  m.self_collision = SelfCollision{thickness, 0.3};
+  precompute_rest(m);
+  return m;
+}
+
 TEST(ClothContact, StackedSheetsRestAsTwoLayersSeparatedByTheThickness) {
   constexpr double kThickness = 0.005;  // m
   Vec3List x;
-  Model m = two_sheets(0.3, 8, 0.03, 0.04, &x);
-  m.gravity = Vec3(0, 0, -9.81);
-  m.air_damping = 0.5;
-  m.integrator = Integrator::SymplecticEuler;
-  m.dt = 1e-4;
-  m.obstacles = {ground()};
-  m.obstacles[0].friction = 0.5;
-  m.self_collision = SelfCollision{kThickness, 0.3};
-  precompute_rest(m);
+  const Model m =
+      falling_stack(kThickness, Integrator::SymplecticEuler, 1e-4, ContactModel::Constraints, &x);
   State s;
   s.x = x;
   s.v.assign(x.size(), Vec3::Zero());
@@ -96,46 +108,118 @@ TEST(ClothContact, StackedSheetsRestAsTwoLayersSeparatedByTheThickness) {
   EXPECT_LT(fastest, 1e-3);  // at rest: no jitter between the layers
 }
 
-// A small sheet thrown down at 20 m/s onto a sheet held flat: at dt = 1 ms it would
-// pass 2 cm in one step, ten times the thickness, and end below it (tunnelled, with no
-// crossing left to see). The stage stops it at the thickness.
-TEST(ClothContact, FastLayerDoesNotPassThrough) {
-  constexpr double kThickness = 0.002;
+// The same stack with backward Euler at 1/60 s under the barrier: the barrier holds the
+// layers apart inside the solve (self_barrier.h), so no frame crosses and the collision
+// stage after the solve finds nothing to correct. Each layer rests above what carries it
+// at a gap the barrier holds: between the thickness and the thickness plus dhat.
+TEST(ClothContact, StackedSheetsRestAsTwoLayersWithTheBarrier) {
+  constexpr double kThickness = 0.005;  // m
+  Vec3List x;
+  const Model m =
+      falling_stack(kThickness, Integrator::BackwardEuler, 1.0 / 60.0, ContactModel::Barrier, &x);
+  const double dhat = barrier_distance(m);
+  State s;
+  s.x = x;
+  s.v.assign(x.size(), Vec3::Zero());
+  Workspace ws;
+  int corrections = 0;
+  for (int k = 0; k < 72; ++k) {  // 1.2 s
+    ASSERT_FALSE(step(m, s, ws).has_value()) << k;
+    corrections += ws.contact.proximities + ws.contact.impacts;
+    ASSERT_FALSE(crosses(m, s.x)) << "step " << k;
+  }
+  EXPECT_EQ(corrections, 0);
+  const int half = static_cast<int>(x.size()) / 2;
+  double lower_mean = 0, upper_mean = 0, upper_min = INFINITY;
+  for (int i = 0; i < half; ++i) {
+    EXPECT_GT(s.x[i].z(), 0.0) << i;
+    EXPECT_LT(s.x[i].z(), dhat) << i;
+    lower_mean += s.x[i].z() / half;
+  }
+  for (int i = half; i < static_cast<int>(x.size()); ++i) {
+    upper_mean += s.x[i].z() / half;
+    upper_min = std::min(upper_min, s.x[i].z());
+  }
+  std::printf("  dhat %.3g m; lower layer at %.3g m, upper at %.3g m (lowest %.3g)\n", dhat,
+              lower_mean, upper_mean, upper_min);
+  EXPECT_GT(upper_min - lower_mean, kThickness);
+  EXPECT_LT(upper_mean - lower_mean, kThickness + dhat);
+  double fastest = 0;
+  for (const Vec3& v : s.v) fastest = std::max(fastest, v.norm());
+  EXPECT_LT(fastest, 1e-3);  // at rest
+}
+
+// A small sheet 4 mm above a sheet held flat, thrown down onto it at 20 m/s, stepped by
+// `integrator` at dt (s); *first_upper receives the small sheet's first vertex.
+struct ThrownLayer {
+  Model model;
+  State state;
+  int first_upper = 0;
+};
+ThrownLayer thrown_layer(double thickness, Integrator integrator, double dt) {
   Vec3List lower, upper;
-  Model m = testing::grid_model(0.3, 0.3, 10, 10, 0.3, 5, &lower);
+  ThrownLayer t;
+  Model& m = t.model;
+  m = testing::grid_model(0.3, 0.3, 10, 10, 0.3, 5, &lower);
   const Model top = testing::grid_model(0.1, 0.1, 4, 4, 0.3, 6, &upper);
   Vec3List x = lower;
   append_sheet(m, x, top, upper, Vec3(0.013, 0.007, 0.004));
   m.material = testing::test_material();
-  m.integrator = Integrator::SymplecticEuler;
-  m.dt = 1e-3;
-  m.self_collision = SelfCollision{kThickness, 0.0};
-  const int first_upper = static_cast<int>(lower.size());
+  m.integrator = integrator;
+  m.dt = dt;
+  m.self_collision = SelfCollision{thickness, 0.0};
+  t.first_upper = static_cast<int>(lower.size());
   m.pinned.assign(x.size(), 0);
-  for (int i = 0; i < first_upper; ++i) m.pinned[i] = 1;  // held
+  for (int i = 0; i < t.first_upper; ++i) m.pinned[i] = 1;  // held
   precompute_rest(m);
-  auto thrown = [&] {
-    State s;
-    s.x = x;
-    s.v.assign(x.size(), Vec3::Zero());
-    for (int i = first_upper; i < static_cast<int>(x.size()); ++i) s.v[i] = Vec3(0, 0, -20.0);
-    return s;
-  };
-  State s = thrown();
+  t.state.x = x;
+  t.state.v.assign(x.size(), Vec3::Zero());
+  for (size_t i = t.first_upper; i < x.size(); ++i) t.state.v[i] = Vec3(0, 0, -20.0);
+  return t;
+}
+
+// At dt = 1 ms the thrown sheet would pass 2 cm in one step, ten times the thickness, and
+// end below the held one (tunnelled, with no crossing left to see). The stage stops it at
+// the thickness.
+TEST(ClothContact, FastLayerDoesNotPassThrough) {
+  constexpr double kThickness = 0.002;
+  ThrownLayer t = thrown_layer(kThickness, Integrator::SymplecticEuler, 1e-3);
+  const Model& m = t.model;
+  State s = t.state;
   Workspace ws;
   ASSERT_FALSE(step(m, s, ws).has_value());
   EXPECT_EQ(ws.contact.unresolved, 0);
   EXPECT_FALSE(crosses(m, s.x));
-  for (int i = first_upper; i < static_cast<int>(x.size()); ++i) {
+  for (int i = t.first_upper; i < m.num_vertices(); ++i) {
     EXPECT_GT(s.x[i].z(), 0.99 * kThickness) << i;
   }
   // Without the stage the same step ends below the held sheet.
   Model bare = m;
   bare.self_collision.reset();
-  State b = thrown();
+  State b = t.state;
   Workspace wb;
   step(bare, b, wb);
-  EXPECT_LT(b.x[first_upper].z(), -0.01);
+  EXPECT_LT(b.x[t.first_upper].z(), -0.01);
+}
+
+// The same throw with backward Euler at 1/60 s under the barrier: a third of a metre per
+// step, yet the line search stops every pair short of its first touch, so the layer ends
+// above the held sheet with nothing left for the collision stage.
+TEST(ClothContact, FastLayerDoesNotPassThroughWithTheBarrier) {
+  constexpr double kThickness = 0.002;
+  ThrownLayer t = thrown_layer(kThickness, Integrator::BackwardEuler, 1.0 / 60.0);
+  t.model.implicit.contact = ContactModel::Barrier;
+  const Model& m = t.model;
+  State& s = t.state;
+  Workspace ws;
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_FALSE(step(m, s, ws).has_value()) << k;
+    EXPECT_EQ(ws.contact.proximities + ws.contact.impacts, 0) << k;
+    EXPECT_FALSE(crosses(m, s.x)) << k;
+    for (int i = t.first_upper; i < m.num_vertices(); ++i) {
+      ASSERT_GT(s.x[i].z(), kThickness) << "step " << k << " vertex " << i;
+    }
+  }
 }
 
 // The stage applies its impulses in the order of its pair lists, each seeing the
@@ -331,8 +415,11 @@ TEST(ClothContact, PairsAreCaughtWhenAVertexJumpsAfterRest) {
 }
 
 // A sheet sliding over a sheet held flat, pressed by gravity: without friction it keeps
-// its speed; with friction mu it slows by mu g (Coulomb).
-double slide_speed_after(double friction, double seconds) {
+// its speed; with friction mu it slows by mu g (Coulomb). Symplectic Euler at 0.1 ms with
+// the collision stage, or backward Euler at 1/100 s with the barrier (the sheet starts
+// within the barrier's reach, the thickness plus half of dhat above the other, and settles
+// for 0.3 s before it is pushed).
+double slide_speed_after(double friction, double seconds, bool barrier = false) {
   constexpr double kThickness = 0.004;
   Vec3List lower, upper;
   Model m = testing::grid_model(0.8, 0.4, 16, 8, 0.3, 8, &lower);
@@ -342,8 +429,13 @@ double slide_speed_after(double friction, double seconds) {
   m.material = testing::test_material();
   m.material.damping = 1e-5;
   m.gravity = Vec3(0, 0, -9.81);
-  m.integrator = Integrator::SymplecticEuler;
-  m.dt = 1e-4;
+  m.integrator = barrier ? Integrator::BackwardEuler : Integrator::SymplecticEuler;
+  m.dt = barrier ? 0.01 : 1e-4;
+  if (barrier) {
+    m.implicit.contact = ContactModel::Barrier;
+    precompute_rest(m);
+    for (size_t i = lower.size(); i < x.size(); ++i) x[i].z() += 0.5 * barrier_distance(m);
+  }
   m.self_collision = SelfCollision{kThickness, friction};
   const int first_upper = static_cast<int>(lower.size());
   m.pinned.assign(x.size(), 0);
@@ -352,12 +444,13 @@ double slide_speed_after(double friction, double seconds) {
   State s;
   s.x = x;
   s.v.assign(x.size(), Vec3::Zero());
-  for (int i = first_upper; i < static_cast<int>(x.size()); ++i) s.v[i] = Vec3(1.0, 0, 0);
   Workspace ws;
+  for (int k = 0; barrier && k < 30; ++k) EXPECT_FALSE(step(m, s, ws).has_value());
+  for (int i = first_upper; i < static_cast<int>(x.size()); ++i) s.v[i] = Vec3(1.0, 0, 0);
   const int steps = static_cast<int>(std::lround(seconds / m.dt));
   for (int k = 0; k < steps; ++k) {
     EXPECT_FALSE(step(m, s, ws).has_value());
-    if (k % 250 == 0) {
+    if (barrier || k % 250 == 0) {
       EXPECT_FALSE(crosses(m, s.x)) << k;
     }
   }
@@ -377,6 +470,17 @@ TEST(ClothContact, FrictionBetweenLayersSlowsByMuG) {
   const double mu = 0.3, t = 0.2;
   // Coulomb: v(t) = v0 - mu g t = 1 - 0.3 * 9.81 * 0.2 = 0.41 m/s.
   EXPECT_NEAR(slide_speed_after(mu, t), 1.0 - mu * 9.81 * t, 0.03);
+}
+
+// The same inside the implicit solve: the barrier holds the layers apart and its lagged
+// friction acts on their relative velocity.
+TEST(ClothContact, LayersSlideFreelyWithoutFrictionWithTheBarrier) {
+  EXPECT_NEAR(slide_speed_after(0.0, 0.2, true), 1.0, 0.01);
+}
+
+TEST(ClothContact, FrictionBetweenLayersSlowsByMuGWithTheBarrier) {
+  const double mu = 0.3, t = 0.2;
+  EXPECT_NEAR(slide_speed_after(mu, t, true), 1.0 - mu * 9.81 * t, 0.03);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "physics/membrane.h"
 #include "physics/step.h"
 #include "physics/system_matrix.h"
+#include "barrier_checks.h"
 #include "test_meshes.h"
 
 namespace tissu {
@@ -190,16 +191,7 @@ TEST(MeshBarrier, ImpulsesMatchFiniteDifferencesOfThePotential) {
   double gap = 0.0;
   ASSERT_GT(contact.active(v, &gap), 0);
   ASSERT_GT(gap, 0.0);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(9);
-  contact.add_impulses(v, rhs);
-  const double step = 1e-7;  // m/s
-  for (int k = 0; k < 9; ++k) {
-    Vec3List plus = v, minus = v;
-    plus[k / 3][k % 3] += step;
-    minus[k / 3][k % 3] -= step;
-    const double slope = (contact.potential(plus) - contact.potential(minus)) / (2 * step);
-    EXPECT_NEAR(-rhs[k], slope, 1e-5 * rhs.norm()) << k;
-  }
+  testing::expect_impulses_match_potential(contact, v);
   // Straight up, every distance (corner to face, vertices to the top face) grows at the
   // rate of the motion: the Gauss-Newton Hessian is exact along it.
   SystemMatrix system;
@@ -212,14 +204,7 @@ TEST(MeshBarrier, ImpulsesMatchFiniteDifferencesOfThePotential) {
   contact.add_hessian(v, system);
   system.matrix().multiply(up, after);
   const double curvature = up.dot(after - before);  // kg*(m/s)^2 per (m/s)^2
-  const double e = 1e-5;  // m/s
-  Vec3List higher = v, lower = v;
-  for (int i = 0; i < 3; ++i) {
-    higher[i].z() += e;
-    lower[i].z() -= e;
-  }
-  const double second =
-      (contact.potential(higher) - 2 * contact.potential(v) + contact.potential(lower)) / (e * e);
+  const double second = testing::potential_curvature(contact, v, up, 1e-5);
   EXPECT_NEAR(curvature, second, 1e-4 * std::fabs(second));
 }
 
