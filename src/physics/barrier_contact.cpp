@@ -334,21 +334,6 @@ const Vec3List& BarrierContact::end_positions(const Vec3List& v) const {
   return x_end_;
 }
 
-void SelfCoupling::add_product(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-  for (const Term& term : terms_) {
-    const PairGap& g = term.gap;
-    // K times the sum of w_k x_k over each piece.
-    Vec3 sum[2] = {Vec3::Zero(), Vec3::Zero()};
-    for (int k = 0; k < g.count; ++k) {
-      sum[k < g.split ? 0 : 1] += g.weights[k] * Vec3(x.segment<3>(3 * g.vertices[k]));
-    }
-    const Vec3 pushed[2] = {term.block * sum[0], term.block * sum[1]};
-    for (int k = 0; k < g.count; ++k) {
-      y.segment<3>(3 * g.vertices[k]) += g.weights[k] * pushed[k < g.split ? 1 : 0];
-    }
-  }
-}
-
 Vec3 BarrierContact::PairFriction::relative(const Vec3List& v) const {
   Vec3 u = Vec3::Zero();
   for (int k = 0; k < pair.count; ++k) u += pair.weights[k] * v[pair.vertices[k]];
@@ -359,19 +344,19 @@ void BarrierContact::add_pair_blocks(PairGap g, const Mat3& block, SystemMatrix&
   for (int k = 0; k < g.count; ++k) {
     if (model_->pinned[g.vertices[k]]) g.weights[k] = 0.0;
   }
-  // Within each piece into the pattern; between the pieces by product.
-  const auto add_piece = [&](int first, int end) {
-    for (int k = first; k < end; ++k) {
-      if (g.weights[k] == 0.0) continue;
-      for (int l = first; l < end; ++l) {
-        if (g.weights[l] == 0.0) continue;
-        system.add_block(g.vertices[k], g.vertices[l], (g.weights[k] * g.weights[l]) * block);
+  for (int k = 0; k < g.count; ++k) {
+    if (g.weights[k] == 0.0) continue;
+    for (int l = 0; l < g.count; ++l) {
+      if (g.weights[l] == 0.0) continue;
+      const int i = g.vertices[k], j = g.vertices[l];
+      const Mat3 b = (g.weights[k] * g.weights[l]) * block;
+      if (system.has_block(i, j)) {
+        system.add_block(i, j, b);
+      } else if (k < l) {
+        coupling_.add(i, j, b);  // with its transpose at (j, i)
       }
     }
-  };
-  add_piece(0, g.split);
-  add_piece(g.split, g.count);
-  if (g.split < g.count) coupling_.add(g, block);
+  }
 }
 
 double BarrierContact::potential(const Vec3List& v) const {

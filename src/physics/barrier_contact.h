@@ -114,29 +114,6 @@ NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, doub
 // distance for a capped cylinder and a mesh, which returns a t at or before it).
 double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u);
 
-// The barrier's matrix blocks between two pieces of cloth that share no triangle (a
-// self pair, self_barrier.h), which the step's matrix pattern does not hold. A pair's
-// terms act on the weighted sum of its vertices' motions, u = sum_k w_k x_k, through a
-// symmetric positive semi-definite 3x3 block K (the barrier's c n n^T, the friction's
-// Jacobian): their matrix is (w w^T) (x) K. The pattern takes the blocks within each piece
-// (positive semi-definite too, so the preconditioner's factor stays positive definite),
-// this the rest, w_k w_l K for k and l in different pieces, by product.
-class SelfCoupling : public MatrixAddition {
- public:
-  void clear() { terms_.clear(); }
-  bool empty() const { return terms_.empty(); }
-  // A pair's vertices and weights (its pinned vertices' weights zeroed) and K, kg.
-  void add(const PairGap& gap, const Mat3& block) { terms_.push_back({gap, block}); }
-  void add_product(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
-
- private:
-  struct Term {
-    PairGap gap;
-    Mat3 block = Mat3::Zero();
-  };
-  std::vector<Term> terms_;
-};
-
 // The barrier contacts of one implicit step, whose equation applies the forces with weight
 // beta: M (v - v_base) = beta f + ... End positions are x_end(v) = x_end_base + beta_end v;
 // the barrier acts on them like the other forces, so its impulse on the step equation is
@@ -191,11 +168,14 @@ class BarrierContact {
   // impulses beta f(v_end) to rhs (3V), kg*m/s.
   void add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const;
   // Adds beta beta_end Hess B (PSD part), -dF/dv and the damping's -beta a df/dv_end to
-  // the system's blocks, kg; the blocks between two pieces of cloth in a self pair go to
-  // coupling(), which the solve adds to the matrix.
+  // the system's blocks, kg. A self pair's terms act on the weighted sum of its vertices'
+  // motions through a symmetric positive semi-definite 3x3 block K (the barrier's
+  // c n n^T, the friction's Jacobian): (w w^T) (x) K. Its blocks between two vertices that
+  // share no triangle lie outside the system's pattern and go to coupling(), which the
+  // solve adds to the matrix (by product in PCG, into the preconditioner's factor).
   void add_hessian(const Vec3List& v, SystemMatrix& system);
-  // The matrix terms of the last add_hessian outside the pattern; null when there are none.
-  const MatrixAddition* coupling() const { return coupling_.empty() ? nullptr : &coupling_; }
+  // The blocks of the last add_hessian outside the pattern; null when there are none.
+  const OffPatternBlocks* coupling() const { return coupling_.empty() ? nullptr : &coupling_; }
   // The largest step length along dv (3V), at most 1, that keeps every vertex and every
   // mesh feature pair and self pair at d > 0: kBarrierStepFraction of the first touch. It
   // also finds the pairs the other calls take, those that may come within dhat on the way;
@@ -255,8 +235,8 @@ class BarrierContact {
     Vec3 relative(const Vec3List& v) const;  // m/s
   };
   std::vector<PairFriction> pair_friction_;
-  // Adds (w w^T) (x) K of a self pair to the system: blocks within each piece, the rest to
-  // coupling_.
+  // Adds (w w^T) (x) K of a self pair to the system, or to coupling_ where the system has
+  // no block.
   void add_pair_blocks(PairGap pair, const Mat3& block, SystemMatrix& system);
   struct Damping {
     int vertex = -1;
@@ -268,7 +248,7 @@ class BarrierContact {
   MeshFeatureBarrier energy_features_;  // the same for energy_of
   SelfBarrier self_;                    // the cloth against itself
   SelfBarrier energy_self_;             // the same for energy_of
-  SelfCoupling coupling_;
+  OffPatternBlocks coupling_;
   mutable Vec3List x_end_, x_path_;     // m
 };
 

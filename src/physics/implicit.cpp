@@ -276,7 +276,12 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
     }
   }
   if (opt.linear_solver == LinearSolver::Cholesky) {
-    if (s.cholesky.valid() && s.cholesky.pattern_id() == A.pattern_id() && !s.refactor) {
+    // Layers held by the barrier stiffen by orders of magnitude from one iteration to the
+    // next: a kept factor does not carry over, a fresh one (with the blocks between the
+    // layers) converges in one or two iterations.
+    const OffPatternBlocks* coupling = s.barrier.coupling();
+    if (s.cholesky.valid() && s.cholesky.pattern_id() == A.pattern_id() && !s.refactor &&
+        !coupling) {
       stale = pcg(s.cholesky, kStaleFactorCgIterations);
       if (stale.converged) {
         s.refactor = stale.iterations > kRefactorAfter;
@@ -284,7 +289,16 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
       }
     }
     s.refactor = false;
-    if (factorize([&] { return s.cholesky.compute(A, s.additions); })) {
+    // Barrier stiffnesses many orders of magnitude beyond the masses (a pair nearly
+    // touching) can leave the factor short of positive definite by rounding alone: a
+    // slightly heavier diagonal then makes one that still preconditions well.
+    const std::vector<OffPatternBlock>* blocks = coupling ? &coupling->blocks() : nullptr;
+    bool factorized = false;
+    for (const double shift : {0.0, 1e-8, 1e-4}) {
+      factorized = factorize([&] { return s.cholesky.compute(A, s.additions, blocks, shift); });
+      if (factorized) break;
+    }
+    if (factorized) {
       CgResult r = pcg(s.cholesky, max_cg);
       r.iterations += stale.iterations;
       return r;

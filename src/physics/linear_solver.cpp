@@ -1,6 +1,7 @@
 #include "physics/linear_solver.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -174,6 +175,12 @@ void choose_best_of_amd_and_nested_dissection(cholmod_common& common) {
   common.method[1].ordering = CHOLMOD_NESDIS;
 }
 
+// CHOLMOD's approximate minimum degree ordering alone.
+void amd_only(cholmod_common& common) {
+  common.nmethods = 1;
+  common.method[0].ordering = CHOLMOD_AMD;
+}
+
 }  // namespace
 
 void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
@@ -203,6 +210,14 @@ void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
             if (C >= R) entries.emplace_back(C, 9 * static_cast<int64_t>(b) + 3 * c + a);
           }
         }
+        // The extra pairs of row i (columns beyond it), from extra_values_.
+        auto e = std::lower_bound(extra_pairs_.begin(), extra_pairs_.end(), std::make_pair(i, 0));
+        for (; e != extra_pairs_.end() && e->first == i; ++e) {
+          const int64_t k = 9 * (e - extra_pairs_.begin());
+          for (int c = 0; c < 3; ++c) {
+            entries.emplace_back(3 * static_cast<Eigen::Index>(e->second) + c, -2 - (k + 3 * c + a));
+          }
+        }
         std::sort(entries.begin(), entries.end());
       } else {
         entries.emplace_back(R, -1);
@@ -229,23 +244,84 @@ void CholeskyPreconditioner::analyze(const BlockSparseMatrix& A) {
   // The compressed columns as built (each sorted by row, so value k of lower_ is
   // source_[k]), then the ordering and symbolic analysis once.
   set_compressed_columns(lower_, outer, inner);
-  choose_best_of_amd_and_nested_dissection(llt_.cholmod());
+  if (extra_pairs_.empty()) {
+    choose_best_of_amd_and_nested_dissection(llt_.cholmod());
+  } else {
+    amd_only(llt_.cholmod());  // analysed again as the extra pairs change: the cheap ordering
+  }
+  llt_.cholmod().print = 0;  // silent: a factor short of positive definite is reported
+                             // by compute() and handled by the caller
   llt_.analyzePattern(lower_);
   pattern_id_ = A.pattern_id();
+  analyses_ += 1;
+}
+
+bool CholeskyPreconditioner::gather_off_pattern(const std::vector<OffPatternBlock>& blocks) {
+  extra_values_.assign(9 * extra_pairs_.size(), 0.0);
+  for (const OffPatternBlock& b : blocks) {
+    const auto e = std::lower_bound(extra_pairs_.begin(), extra_pairs_.end(),
+                                    std::make_pair(b.row, b.column));
+    if (e == extra_pairs_.end() || *e != std::make_pair(b.row, b.column)) return false;
+    double* target = extra_values_.data() + 9 * (e - extra_pairs_.begin());
+    for (int k = 0; k < 9; ++k) target[k] += b.block.data()[k];
+  }
+  return true;
 }
 
 bool CholeskyPreconditioner::compute(const BlockSparseMatrix& A,
-                                     const std::vector<DiagonalAddition>& additions) {
+                                     const std::vector<DiagonalAddition>& additions,
+                                     const std::vector<OffPatternBlock>* off_pattern,
+                                     double diagonal_shift) {
+  static const std::vector<OffPatternBlock> kNone;
+  const std::vector<OffPatternBlock>& blocks = off_pattern ? *off_pattern : kNone;
+  if (!gather_off_pattern(blocks)) {
+    // New pairs: the next analysis takes them with the old ones, unless the old ones
+    // outnumber them twice over (then only the pairs in use now).
+    std::vector<std::pair<int, int>> wanted;
+    for (const OffPatternBlock& b : blocks) wanted.emplace_back(b.row, b.column);
+    std::sort(wanted.begin(), wanted.end());
+    wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+    if (extra_pairs_.size() <= 2 * wanted.size()) {
+      wanted.insert(wanted.end(), extra_pairs_.begin(), extra_pairs_.end());
+      std::sort(wanted.begin(), wanted.end());
+      wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+    }
+    extra_pairs_.swap(wanted);
+    pattern_id_ = 0;
+    gather_off_pattern(blocks);
+  }
   if (pattern_id_ != A.pattern_id()) analyze(A);
   double* values = lower_.valuePtr();
   const std::vector<double>& a = A.values();
-  for (size_t k = 0; k < source_.size(); ++k) values[k] = source_[k] >= 0 ? a[source_[k]] : 1.0;
+  for (size_t k = 0; k < source_.size(); ++k) {
+    const int64_t from = source_[k];
+    values[k] = from >= 0 ? a[from] : (from == -1 ? 1.0 : extra_values_[-2 - from]);
+  }
   for (const auto& [diagonal, index] : dropped_) values[diagonal] += std::fabs(a[index]);
   for (const DiagonalAddition& add : additions) {
     for (int c = 0; c < 3; ++c) {
       for (int r = c; r < 3; ++r) {
         const int64_t k = diagonal_block_[9 * static_cast<size_t>(add.vertex) + 3 * c + r];
         if (k >= 0) values[k] += add.block(r, c);
+      }
+    }
+  }
+  if (diagonal_shift > 0.0) {
+    // Along each vertex's stiff directions only: its diagonal block D gains
+    // diagonal_shift (D - lambda_min(D) I), which leaves the directions where its mass
+    // alone holds it as they are.
+    for (size_t i = 0; 9 * i < diagonal_block_.size(); ++i) {
+      const int64_t* k = &diagonal_block_[9 * i];  // entry (r, c) at 3 c + r, r >= c
+      if (k[0] < 0) continue;
+      Mat3 D;
+      for (int c = 0; c < 3; ++c) {
+        for (int r = c; r < 3; ++r) D(r, c) = D(c, r) = values[k[3 * c + r]];
+      }
+      Eigen::SelfAdjointEigenSolver<Mat3> eigen;
+      eigen.computeDirect(D, Eigen::EigenvaluesOnly);
+      const Mat3 shift = diagonal_shift * (D - eigen.eigenvalues()(0) * Mat3::Identity());
+      for (int c = 0; c < 3; ++c) {
+        for (int r = c; r < 3; ++r) values[k[3 * c + r]] += shift(r, c);
       }
     }
   }
@@ -264,6 +340,21 @@ void CholeskyPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z)
   z = llt_.solve(r);
   for (Eigen::Index k = 0; k < z.size(); ++k) {
     if (!solved_[k]) z[k] = 0.0;
+  }
+}
+
+void OffPatternBlocks::add(int i, int j, const Mat3& block) {
+  if (i < j) {
+    blocks_.push_back({i, j, block});
+  } else {
+    blocks_.push_back({j, i, block.transpose()});
+  }
+}
+
+void OffPatternBlocks::add_product(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  for (const OffPatternBlock& b : blocks_) {
+    y.segment<3>(3 * b.row) += b.block * x.segment<3>(3 * b.column);
+    y.segment<3>(3 * b.column) += b.block.transpose() * x.segment<3>(3 * b.row);
   }
 }
 

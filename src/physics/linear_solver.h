@@ -110,6 +110,36 @@ class BlockJacobiPreconditioner : public Preconditioner {
   std::vector<Mat3> inverse_;  // (V)
 };
 
+// Terms of a system matrix that its block pattern does not hold (couplings between
+// vertices that share no triangle), applied by product: add_product adds E x to y (3V).
+class MatrixAddition {
+ public:
+  virtual ~MatrixAddition() = default;
+  virtual void add_product(const Eigen::VectorXd& x, Eigen::VectorXd& y) const = 0;
+};
+
+// A block outside the pattern of a symmetric matrix: E(row, column) += block and
+// E(column, row) += block^T, row < column (vertex ids).
+struct OffPatternBlock {
+  int row = 0;
+  int column = 0;
+  Mat3 block = Mat3::Zero();
+};
+
+// A MatrixAddition made of such blocks.
+class OffPatternBlocks : public MatrixAddition {
+ public:
+  void clear() { blocks_.clear(); }
+  bool empty() const { return blocks_.empty(); }
+  // Adds `block` at (i, j) and its transpose at (j, i), i != j.
+  void add(int i, int j, const Mat3& block);
+  const std::vector<OffPatternBlock>& blocks() const { return blocks_; }
+  void add_product(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
+
+ private:
+  std::vector<OffPatternBlock> blocks_;
+};
+
 // Sparse Cholesky factor (CHOLMOD, supernodal) of A with its diagonal-only blocks (the
 // bending Jacobian's second-ring couplings) dropped and their magnitudes added to the
 // diagonal: the factored matrix is A + sum over dropped pairs of [|a| -a; -a |a|] >= A, so
@@ -130,7 +160,19 @@ class CholeskyPreconditioner : public Preconditioner {
   // stiffness along each constrained direction, so that the factor approximates the inverse
   // of the filtered system). False when that is not positive definite (the factor is then
   // unusable).
-  bool compute(const BlockSparseMatrix& A, const std::vector<DiagonalAddition>& additions = {});
+  // With `off_pattern`, the factor is of A plus those blocks: its pattern is A's with
+  // every off-pattern block's vertex pair added; it is analysed again when a block falls
+  // outside the pairs of the last analysis (which then takes those pairs and the new ones,
+  // or the new ones alone once the old outnumber them twice over).
+  // With `diagonal_shift` > 0 each vertex's diagonal block D is factored as D +
+  // diagonal_shift (D - lambda_min(D) I): heavier along its stiff directions only. A retry
+  // for a factor that rounding left short of positive definite, where barrier stiffnesses
+  // many orders of magnitude beyond the masses swamp them.
+  bool compute(const BlockSparseMatrix& A, const std::vector<DiagonalAddition>& additions = {},
+               const std::vector<OffPatternBlock>* off_pattern = nullptr,
+               double diagonal_shift = 0.0);
+  // Analyses done (ordering and symbolic factorization).
+  int analyses() const { return analyses_; }
   void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;
   bool valid() const { return valid_; }
   // Pattern of the matrix last factorized (BlockSparseMatrix::pattern_id).
@@ -138,11 +180,18 @@ class CholeskyPreconditioner : public Preconditioner {
 
  private:
   void analyze(const BlockSparseMatrix& A);
+  // Whether every block's vertex pair is among the analysed extra pairs; fills
+  // extra_values_ if so.
+  bool gather_off_pattern(const std::vector<OffPatternBlock>& blocks);
 
   uint64_t pattern_id_ = 0;
+  int analyses_ = 0;
   Eigen::SparseMatrix<double> lower_;  // lower triangle of A (column-major)
   std::vector<int64_t> source_;        // per stored value of lower_: index in A.values(),
-                                       // -1 for the unit diagonal of a row without block
+                                       // -1 for the unit diagonal of a row without block,
+                                       // -2 - k for extra_values_[k]
+  std::vector<std::pair<int, int>> extra_pairs_;  // (row < column) added to A's pattern, sorted
+  std::vector<double> extra_values_;   // 9 per extra pair, its block column-major
   std::vector<std::pair<int64_t, int64_t>> dropped_;  // (diagonal value of lower_, dropped
                                                       // entry's index in A.values())
   std::vector<uint8_t> solved_;        // (3V) 1 = coordinate in the system
@@ -172,14 +221,6 @@ class SolveFilter {
  public:
   virtual ~SolveFilter() = default;
   virtual void apply(Eigen::VectorXd& y) const = 0;
-};
-
-// Terms of a system matrix that its block pattern does not hold (couplings between
-// vertices that share no triangle), applied by product: add_product adds E x to y (3V).
-class MatrixAddition {
- public:
-  virtual ~MatrixAddition() = default;
-  virtual void add_product(const Eigen::VectorXd& x, Eigen::VectorXd& y) const = 0;
 };
 
 // Preconditioned conjugate gradients for symmetric positive definite A: solves A x = b to

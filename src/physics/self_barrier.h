@@ -7,7 +7,7 @@
 // By the closest points, d gap / d x_k = w_k n (PairGap), n the unit direction from the
 // second piece to the first; the Hessian is the Gauss-Newton part b'' (w w^T) (x) n n^T,
 // positive semi-definite. Its blocks between the two pieces lie outside the step's matrix
-// pattern: BarrierContact applies them by product (SelfCoupling).
+// pattern: BarrierContact hands them to the solve apart (OffPatternBlocks).
 // Left out:
 //   - pairs closer than T + dhat in the rest shape (neighbours in the fabric, which the
 //     barrier would push apart while the cloth lies flat);

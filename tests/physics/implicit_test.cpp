@@ -348,6 +348,90 @@ TEST(LinearSolver, CholeskyIsExactWithoutDiagonalOnlyBlocks) {
   EXPECT_LT((Dfull * x - b).norm(), 1e-10 * b.norm());
 }
 
+// Blocks outside the pattern (a barrier's blocks between layers of cloth that share no
+// triangle) enter the factor: PCG with A plus them converges in one iteration to the dense
+// solution. A new set of pairs is analysed again; a subset of the last is not.
+TEST(LinearSolver, CholeskyTakesBlocksOutsideThePattern) {
+  Eigen::MatrixXd D;
+  const BlockSparseMatrix ring = random_spd_blocks(30, 3, &D);
+  BlockSparseMatrix A;
+  std::vector<std::pair<int, int>> full;
+  for (int i = 0; i < 30; ++i) {
+    for (int j : {i, (i + 1) % 30, (i + 29) % 30}) full.emplace_back(i, j);
+  }
+  A.set_pattern(30, full);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g;
+  CholeskyPreconditioner P;
+  const auto solve_with = [&](const std::vector<std::pair<int, int>>& pairs) {
+    BlockSparseMatrix B = A;
+    Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(90, 90);
+    for (const auto& [i, j] : full) {
+      Eigen::Map<Mat3>(B.block_values(B.find(i, j))) = D.block<3, 3>(3 * i, 3 * j);
+      dense.block<3, 3>(3 * i, 3 * j) = D.block<3, 3>(3 * i, 3 * j);
+    }
+    // Each pair: (w w^T) (x) K with w = (1, -0.7) and K = M M^T, its diagonal blocks in B.
+    OffPatternBlocks extra;
+    for (const auto& [i, j] : pairs) {
+      Mat3 M;
+      for (int k = 0; k < 9; ++k) M.data()[k] = g(rng);
+      const Mat3 K = M * M.transpose();
+      Eigen::Map<Mat3>(B.block_values(B.diagonal(i))) += K;
+      Eigen::Map<Mat3>(B.block_values(B.diagonal(j))) += 0.49 * K;
+      extra.add(j, i, -0.7 * K);
+      dense.block<3, 3>(3 * i, 3 * i) += K;
+      dense.block<3, 3>(3 * j, 3 * j) += 0.49 * K;
+      dense.block<3, 3>(3 * i, 3 * j) += -0.7 * K;
+      dense.block<3, 3>(3 * j, 3 * i) += -0.7 * K;
+    }
+    EXPECT_TRUE(P.compute(B, {}, &extra.blocks()));
+    const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(90, -1.0, 1.0);
+    CgWorkspace work;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(90);
+    const CgResult r = solve_pcg(B, P, b, 1e-10, 50, x, work, nullptr, nullptr, &extra);
+    EXPECT_TRUE(r.converged);
+    EXPECT_EQ(r.iterations, 1);
+    EXPECT_LT((dense * x - b).norm(), 1e-9 * b.norm());
+  };
+  solve_with({{0, 10}, {3, 20}, {25, 7}});
+  EXPECT_EQ(P.analyses(), 1);
+  solve_with({{0, 10}, {5, 15}});
+  EXPECT_EQ(P.analyses(), 2);
+  solve_with({{5, 15}, {25, 7}});
+  EXPECT_EQ(P.analyses(), 2);
+}
+
+// Two vertices of 1e-6 kg, one above the other, held by a barrier block K n n^T between
+// them, K = 1e12 kg, n = z: the matrix is positive definite (eigenvalues m and m + 2K
+// along z) but m vanishes beside K in rounding, so the factor's second pivot along z is 0.
+// A diagonal heavier along the stiff direction makes a factor that still preconditions
+// the soft ones exactly: PCG reaches a solution across n in a few iterations.
+TEST(LinearSolver, CholeskyWithAHeavierDiagonalFactorsAStiffPair) {
+  const double m = 1e-6, K = 1e12;
+  const Vec3 n = Vec3::UnitZ();
+  BlockSparseMatrix A;
+  A.set_pattern(2, {{0, 0}, {1, 1}});
+  for (int i = 0; i < 2; ++i) {
+    Eigen::Map<Mat3>(A.block_values(A.diagonal(i))) = m * Mat3::Identity() + K * n * n.transpose();
+  }
+  OffPatternBlocks between;
+  between.add(0, 1, -K * n * n.transpose());
+  CholeskyPreconditioner P;
+  EXPECT_FALSE(P.compute(A, {}, &between.blocks()));
+  ASSERT_TRUE(P.compute(A, {}, &between.blocks(), 1e-8));
+  // The solution moves both vertices across n, where only their mass holds them: b = m x.
+  const Mat3 across = Mat3::Identity() - n * n.transpose();
+  Eigen::VectorXd x_true(6);
+  x_true << across * Vec3::UnitX(), across * Vec3::UnitY();
+  const Eigen::VectorXd b = m * x_true;
+  CgWorkspace work;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(6);
+  const CgResult r = solve_pcg(A, P, b, 1e-8, 20, x, work, nullptr, nullptr, &between);
+  EXPECT_TRUE(r.converged);
+  EXPECT_LE(r.iterations, 2);
+  EXPECT_LT((x - x_true).norm(), 1e-6 * x_true.norm());
+}
+
 // With diagonal-only blocks the factor is of A plus a positive semi-definite correction:
 // positive definite, and PCG still reaches the true solution, in a few iterations.
 TEST(LinearSolver, CholeskyPreconditionsMatricesWithDiagonalOnlyBlocks) {
