@@ -298,8 +298,12 @@ void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
       const Vec3 stay = (target - (*x_end_base_)[i]) / beta_end_;                   // m/s
       v[i] = stay + keep * (v[i] - stay);
     }
-    if (round + 1 == kFeasibleRounds) break;  // no push after the last draw-back
+    // Out of the obstacles again after every draw-back, the last one included: a draw-back
+    // toward x_n (a self pair's) ignores a moving obstacle, and a vertex the guess leaves
+    // inside one would hold the line search at length 0. A pair this push leaves crossed
+    // after the last round is left out of the step (find_pairs) instead.
     push_out(v, v_base, forces, f);
+    if (round + 1 == kFeasibleRounds) break;
   }
   // The pairs about the guess, for the solve's first evaluations.
   const Vec3List& x_end = end_positions(v);

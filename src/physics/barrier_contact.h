@@ -147,6 +147,7 @@ class BarrierContact {
   // it where it ends, and drawn back to 0.9 of the first touch, toward x_n carried by that
   // obstacle's motion near it, at most four times (then pairs still crossed are left out
   // of the step). Self pairs are checked on the same paths and drawn back toward x_n.
+  // Every draw-back is followed by the push out of the obstacles.
   void make_feasible(Vec3List& v, const Vec3List& v_base,
                      const std::function<const Vec3List&()>& forces);
 
