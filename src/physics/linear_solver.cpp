@@ -279,12 +279,10 @@ bool CholeskyPreconditioner::compute(const BlockSparseMatrix& A,
     // outnumber them twice over (then only the pairs in use now).
     std::vector<std::pair<int, int>> wanted;
     for (const OffPatternBlock& b : blocks) wanted.emplace_back(b.row, b.column);
-    std::sort(wanted.begin(), wanted.end());
-    wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+    sort_unique(wanted);
     if (extra_pairs_.size() <= 2 * wanted.size()) {
       wanted.insert(wanted.end(), extra_pairs_.begin(), extra_pairs_.end());
-      std::sort(wanted.begin(), wanted.end());
-      wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+      sort_unique(wanted);
     }
     extra_pairs_.swap(wanted);
     pattern_id_ = 0;
