@@ -354,9 +354,7 @@ void BarrierContact::add_pair_blocks(PairGap g, const Mat3& block, SystemMatrix&
       if (g.weights[l] == 0.0) continue;
       const int i = g.vertices[k], j = g.vertices[l];
       const Mat3 b = (g.weights[k] * g.weights[l]) * block;
-      if (system.has_block(i, j)) {
-        system.add_block(i, j, b);
-      } else if (k < l) {
+      if (!system.add_block_if_held(i, j, b) && k < l) {
         coupling_.add(i, j, b);  // with its transpose at (j, i)
       }
     }

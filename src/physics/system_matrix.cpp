@@ -205,13 +205,18 @@ void SystemMatrix::add_diagonal(int i, const Mat3& block) {
 }
 
 void SystemMatrix::add_block(int i, int j, const Mat3& block) {
-  const int b = i == j ? A_.diagonal(i) : A_.find(i, j);
-  if (b < 0) {
+  if (!add_block_if_held(i, j, block)) {
     throw std::logic_error("system matrix: no block for vertices " + std::to_string(i) + ", " +
                            std::to_string(j));
   }
+}
+
+bool SystemMatrix::add_block_if_held(int i, int j, const Mat3& block) {
+  const int b = i == j ? A_.diagonal(i) : A_.find(i, j);
+  if (b < 0) return false;
   double* target = A_.block_values(b);
   for (int e = 0; e < 9; ++e) target[e] += block.data()[e];
+  return true;
 }
 
 }  // namespace tissu

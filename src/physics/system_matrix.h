@@ -34,8 +34,8 @@ class SystemMatrix {
   void add_diagonal(int i, const Mat3& block);
   // Adds `block` to block (i, j) of free vertices i and j of one triangle.
   void add_block(int i, int j, const Mat3& block);
-  // Whether the pattern holds block (i, j).
-  bool has_block(int i, int j) const { return (i == j ? A_.diagonal(i) : A_.find(i, j)) >= 0; }
+  // Adds `block` to block (i, j) if the pattern holds it; false (nothing added) if not.
+  bool add_block_if_held(int i, int j, const Mat3& block);
 
   const BlockSparseMatrix& matrix() const { return A_; }
 
