@@ -29,6 +29,11 @@ double barrier_second_derivative(double d, double dhat, double kappa) {
 
 double barrier_stiffness(double mass, double dt) { return mass / (dt * dt); }
 
+PairMatrix pair_barrier_hessian(const PairGap& g, double dhat, double kappa) {
+  return gap_function_hessian(g, barrier_derivative(g.d, dhat, kappa),
+                              barrier_second_derivative(g.d, dhat, kappa), false);
+}
+
 namespace {
 
 // The step in kappa = m / dt^2, s.
@@ -344,16 +349,25 @@ Vec3 BarrierContact::PairFriction::relative(const Vec3List& v) const {
   return u;
 }
 
-void BarrierContact::add_pair_blocks(PairGap g, const Mat3& block, SystemMatrix& system) {
+void BarrierContact::add_pair_blocks(const PairGap& g, const Mat3& block, SystemMatrix& system) {
+  PairMatrix hessian = PairMatrix::Zero();
   for (int k = 0; k < g.count; ++k) {
-    if (model_->pinned[g.vertices[k]]) g.weights[k] = 0.0;
-  }
-  for (int k = 0; k < g.count; ++k) {
-    if (g.weights[k] == 0.0) continue;
     for (int l = 0; l < g.count; ++l) {
-      if (g.weights[l] == 0.0) continue;
+      hessian.block<3, 3>(3 * k, 3 * l) = (g.weights[k] * g.weights[l]) * block;
+    }
+  }
+  add_pair_hessian(g, hessian, system);
+}
+
+void BarrierContact::add_pair_hessian(const PairGap& g, const PairMatrix& hessian,
+                                      SystemMatrix& system) {
+  for (int k = 0; k < g.count; ++k) {
+    if (model_->pinned[g.vertices[k]]) continue;
+    for (int l = 0; l < g.count; ++l) {
+      if (model_->pinned[g.vertices[l]]) continue;
+      const Mat3 b = hessian.block<3, 3>(3 * k, 3 * l);
+      if ((b.array() == 0.0).all()) continue;  // a vertex the closest points do not weigh
       const int i = g.vertices[k], j = g.vertices[l];
-      const Mat3 b = (g.weights[k] * g.weights[l]) * block;
       if (!system.add_block_if_held(i, j, b) && k < l) {
         coupling_.add(i, j, b);  // with its transpose at (j, i)
       }
@@ -439,8 +453,15 @@ void BarrierContact::add_hessian(const Vec3List& v, SystemMatrix& system) {
   if (has_pairs()) {
     for_each_pair(end_positions(v), [&](const PairGap& g, double kappa) {
       if (g.d <= 0.0 || g.d >= dhat_) return;
-      const double c = scale * barrier_second_derivative(g.d, dhat_, kappa);  // kg
-      add_pair_blocks(g, c * g.normal * g.normal.transpose(), system);
+      const double curvature = scale * barrier_second_derivative(g.d, dhat_, kappa);  // kg
+      if (g.split == g.count) {  // a mesh feature pair: Gauss-Newton (mesh_barrier.h)
+        add_pair_blocks(g, curvature * g.normal * g.normal.transpose(), system);
+        return;
+      }
+      bool fixed[4] = {false, false, false, false};
+      for (int k = 0; k < g.count; ++k) fixed[k] = model_->pinned[g.vertices[k]];
+      const double slope = scale * barrier_derivative(g.d, dhat_, kappa);  // N*s^2
+      add_pair_hessian(g, gap_function_hessian(g, slope, curvature, true, fixed), system);
     });
   }
   for (const PairFriction& f : pair_friction_) {

@@ -168,12 +168,13 @@ class BarrierContact {
   // Adds -beta grad B(x_end(v)), the friction impulses F(v) and the frozen damping's
   // impulses beta f(v_end) to rhs (3V), kg*m/s.
   void add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const;
-  // Adds beta beta_end Hess B (PSD part), -dF/dv and the damping's -beta a df/dv_end to
-  // the system's blocks, kg. A self pair's terms act on the weighted sum of its vertices'
-  // motions through a symmetric positive semi-definite 3x3 block K (the barrier's
-  // c n n^T, the friction's Jacobian): (w w^T) (x) K. Its blocks between two vertices that
-  // share no triangle lie outside the system's pattern and go to coupling(), which the
-  // solve adds to the matrix (by product in PCG, into the preconditioner's factor).
+  // Adds beta beta_end Hess B (PSD part: a vertex's and a mesh pair's b'' n n^T, a self
+  // pair's whole Hessian projected), -dF/dv and the damping's -beta a df/dv_end to the
+  // system's blocks, kg. A self pair's friction acts on the weighted sum of its vertices'
+  // motions through a symmetric positive semi-definite 3x3 block K: (w w^T) (x) K. A
+  // pair's blocks between two vertices that share no triangle lie outside the system's
+  // pattern and go to coupling(), which the solve adds to the matrix (by product in PCG,
+  // into the preconditioner's factor).
   void add_hessian(const Vec3List& v, SystemMatrix& system);
   // The blocks of the last add_hessian outside the pattern; null when there are none.
   const OffPatternBlocks* coupling() const { return coupling_.empty() ? nullptr : &coupling_; }
@@ -238,7 +239,9 @@ class BarrierContact {
   std::vector<PairFriction> pair_friction_;
   // Adds (w w^T) (x) K of a self pair to the system, or to coupling_ where the system has
   // no block.
-  void add_pair_blocks(PairGap pair, const Mat3& block, SystemMatrix& system);
+  void add_pair_blocks(const PairGap& pair, const Mat3& block, SystemMatrix& system);
+  // The same for a pair's Hessian over its vertices (pair_gap.h), but its pinned vertices'.
+  void add_pair_hessian(const PairGap& pair, const PairMatrix& hessian, SystemMatrix& system);
   struct Damping {
     int vertex = -1;
     NormalDamping law;
@@ -256,6 +259,11 @@ class BarrierContact {
 // kappa = m / dt^2 (kg/s^2) of a vertex of mass m (kg) for dt (s): the scene's step, or
 // model.implicit.barrier_stiffness_dt if set (the same barrier at every step).
 double barrier_stiffness(double mass, double dt);
+
+// The second derivative of a pair's barrier b(gap) in its vertices' positions,
+// b'' grad grad^T + b' Hess gap (N/m), exact: indefinite where the closest points turn
+// or slide (b' < 0), so the step's matrix takes it projected (add_hessian).
+PairMatrix pair_barrier_hessian(const PairGap& g, double dhat, double kappa);
 
 // The gap at which the barrier pushes with the given force (N), m: -b'(d) = force for
 // kappa (kg/s^2) and dhat (m); dhat where the force is not positive.

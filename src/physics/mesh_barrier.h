@@ -7,7 +7,9 @@
 // under the vertex barrier's b(d), dhat and kappa (the mean of the primitive's free
 // vertices'). By the closest points, d gap / d x_i = w_i n, with w_i the weight of cloth
 // vertex i in the closest point and n the unit direction from the feature to it; the
-// Hessian is the Gauss-Newton part b'' (w w^T) (x) n n^T, positive semi-definite.
+// Hessian is the Gauss-Newton part b'' (w w^T) (x) n n^T, positive semi-definite (the
+// whole Hessian, as the self pairs take it, cost more Newton iterations on the rising box;
+// docs/implicit.md, "The self pairs' whole Hessian").
 // Only convex features take part: a flat or concave edge, and a vertex with no convex edge,
 // cannot pierce a cloth triangle whose vertices are outside the solid. Convex edges bent by
 // less than 2 T / L (thickness T, the cloth's longest rest edge L) take no part either, nor
@@ -28,26 +30,11 @@
 #include "core/types.h"
 #include "physics/model.h"
 #include "physics/obstacle.h"
+#include "physics/pair_gap.h"
 
 namespace tissu {
 
 class ClosedSurface;
-
-// One pair's gap at given cloth positions: the cloth vertices it moves and their weights,
-// so that d gap / d x_k = weights[k] normal (world, unit). Against an obstacle's feature the
-// normal points from the feature toward the cloth and the weights are those of the cloth's
-// closest point; between two pieces of cloth (self_barrier.h) the normal points from the
-// second piece toward the first and the second's weights are negative.
-struct PairGap {
-  double d = 0.0;  // m, past the thickness
-  Vec3 normal = Vec3::UnitZ();
-  int vertices[4] = {-1, -1, -1, -1};
-  double weights[4] = {0.0, 0.0, 0.0, 0.0};
-  int count = 0;  // 3 for a cloth triangle, 2 for a cloth edge, 4 for two pieces of cloth
-  // Vertices [0, split) and [split, count) belong to two pieces of cloth whose vertices
-  // share no triangle: the step's matrix has no blocks between them (count: one piece).
-  int split = 0;
-};
 
 class MeshFeatureBarrier {
  public:

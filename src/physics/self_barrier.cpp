@@ -53,15 +53,19 @@ PairGap SelfBarrier::gap_at(const std::array<int, 4>& ids, bool edge_edge,
     g.split = 2;
     const double w[4] = {1.0 - s.s, s.s, -(1.0 - s.t), -s.t};
     std::copy(w, w + 4, g.weights);
+    g.add_segment_params(s.s, 0, 1.0, p[0], p[1]);
+    g.add_segment_params(s.t, 2, -1.0, p[2], p[3]);
   } else {
     const TrianglePoint c = closest_on_triangle(p[0], p[1], p[2], p[3]);
     between = p[0] - c.point;
     g.split = 1;
     const double w[4] = {1.0, -c.weights[0], -c.weights[1], -c.weights[2]};
     std::copy(w, w + 4, g.weights);
+    g.add_triangle_params(c.feature, 1, -1.0, p[1], p[2], p[3]);
   }
   std::copy(ids.begin(), ids.end(), g.vertices);
   const double distance = between.norm();
+  g.distance = distance;
   g.d = distance - thickness_;
   // Touching exactly (distance 0): any direction; the barrier is infinite there anyway.
   g.normal = distance > 0.0 ? Vec3(between / distance) : Vec3::UnitZ();

@@ -5,9 +5,10 @@
 //         thickness T (m),
 // under the vertex barrier's b(d), dhat and kappa (the mean of the pair's free vertices').
 // By the closest points, d gap / d x_k = w_k n (PairGap), n the unit direction from the
-// second piece to the first; the Hessian is the Gauss-Newton part b'' (w w^T) (x) n n^T,
-// positive semi-definite. Its blocks between the two pieces lie outside the step's matrix
-// pattern: BarrierContact hands them to the solve apart (OffPatternBlocks).
+// second piece to the first; the Hessian is b'' grad grad^T + b' Hess gap (pair_gap.h),
+// projected to positive semi-definite, as in IPC. Its blocks between the two pieces lie
+// outside the step's matrix pattern: BarrierContact hands them to the solve apart
+// (OffPatternBlocks).
 // Left out:
 //   - pairs closer than T + dhat in the rest shape (neighbours in the fabric, which the
 //     barrier would push apart while the cloth lies flat);
