@@ -29,11 +29,6 @@ double barrier_second_derivative(double d, double dhat, double kappa) {
 
 double barrier_stiffness(double mass, double dt) { return mass / (dt * dt); }
 
-PairMatrix pair_barrier_hessian(const PairGap& g, double dhat, double kappa) {
-  return gap_function_hessian(g, barrier_derivative(g.d, dhat, kappa),
-                              barrier_second_derivative(g.d, dhat, kappa), false);
-}
-
 namespace {
 
 // The step in kappa = m / dt^2, s.

@@ -260,11 +260,6 @@ class BarrierContact {
 // model.implicit.barrier_stiffness_dt if set (the same barrier at every step).
 double barrier_stiffness(double mass, double dt);
 
-// The second derivative of a pair's barrier b(gap) in its vertices' positions,
-// b'' grad grad^T + b' Hess gap (N/m), exact: indefinite where the closest points turn
-// or slide (b' < 0), so the step's matrix takes it projected (add_hessian).
-PairMatrix pair_barrier_hessian(const PairGap& g, double dhat, double kappa);
-
 // The gap at which the barrier pushes with the given force (N), m: -b'(d) = force for
 // kappa (kg/s^2) and dhat (m); dhat where the force is not positive.
 double holding_gap(double force, double dhat, double kappa);

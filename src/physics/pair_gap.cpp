@@ -71,7 +71,7 @@ Eigen::Matrix2d gram_inverse(const PairGap& g) {
 using PairBasis = Eigen::Matrix<double, 12, 5>;
 PairBasis pair_basis(const PairGap& g) {
   PairBasis v = PairBasis::Zero();
-  Vec3 t1 = g.normal.unitOrthogonal();
+  const Vec3 t1 = g.normal.unitOrthogonal();
   const Vec3 t2 = g.normal.cross(t1);
   const Vec3 q = g.distance * g.normal;
   for (int k = 0; k < g.count; ++k) {
@@ -98,11 +98,6 @@ Eigen::Matrix<double, 5, 5> pair_coefficients(const PairGap& g, double slope, do
 }
 
 }  // namespace
-
-PairMatrix distance_hessian(const PairGap& g) {
-  const PairBasis v = pair_basis(g);
-  return v * pair_coefficients(g, 1.0, 0.0) * v.transpose();
-}
 
 PairMatrix gap_function_hessian(const PairGap& g, double slope, double curvature, bool psd,
                                 const bool* fixed) {

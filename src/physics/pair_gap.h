@@ -53,11 +53,10 @@ struct PairGap {
 // Over the 3 count coordinates of the pair's vertices (the rest zero).
 using PairMatrix = Eigen::Matrix<double, 12, 12>;
 
-// d^2 r / d x^2 (1/m), which is also the gap's.
-PairMatrix distance_hessian(const PairGap& g);
-
 // The second derivative of a function of the gap, f(gap), in the pair's vertices:
-//   f'' grad grad^T + f' Hess gap,   slope f' and curvature f'' at g.d,
+//   f'' grad grad^T + f' Hess gap,   slope f' and curvature f'' at g.d
+// (the gap's own, 1/m, for slope 1 and curvature 0; a barrier's, N/m, for b' and b'',
+// indefinite where the closest points turn or slide, since b' < 0),
 // with the rows and columns of vertices marked in `fixed` (may be null) zero; exact, or
 // (psd) projected to positive semi-definite (negative eigenvalues set to zero). Its range
 // lies in the span of w (x) n, w (x) t1, w (x) t2 (t1, t2 across n) and C's columns, at

@@ -40,6 +40,9 @@ PairMatrix projected(const PairMatrix& m) {
          eig.eigenvectors().transpose();
 }
 
+// The gap's own second derivative, d^2 r / d x^2 (1/m).
+PairMatrix distance_hessian(const PairGap& g) { return gap_function_hessian(g, 1.0, 0.0, false); }
+
 Eigen::Matrix<double, 12, 1> gradient_of(const PairGap& g) {
   Eigen::Matrix<double, 12, 1> out = Eigen::Matrix<double, 12, 1>::Zero();
   for (int k = 0; k < g.count; ++k) out.segment<3>(3 * k) = g.weights[k] * g.normal;
@@ -122,7 +125,9 @@ TEST(PairGap, BarrierHessianMatchesDifferencesAndProjects) {
   const PairGap g = self.gap_of_vertices(ids, false, x);
   ASSERT_GT(g.d, 0.0);
   ASSERT_LT(g.d, dhat);
-  const PairMatrix h = pair_barrier_hessian(g, dhat, kappa);
+  const double slope = barrier_derivative(g.d, dhat, kappa);
+  const double curvature = barrier_second_derivative(g.d, dhat, kappa);
+  const PairMatrix h = gap_function_hessian(g, slope, curvature, false);
   const PairMatrix fd = differences(x, [&](const Vec3List& y) {
     const PairGap gy = self.gap_of_vertices(ids, false, y);
     return Eigen::Matrix<double, 12, 1>(barrier_derivative(gy.d, dhat, kappa) * gradient_of(gy));
@@ -130,8 +135,7 @@ TEST(PairGap, BarrierHessianMatchesDifferencesAndProjects) {
   EXPECT_LT((h - fd).norm(), 1e-5 * h.norm());
   const Eigen::SelfAdjointEigenSolver<PairMatrix> exact(h);
   EXPECT_LT(exact.eigenvalues()[0], -1e-3 * exact.eigenvalues()[11]);
-  const PairMatrix psd = gap_function_hessian(g, barrier_derivative(g.d, dhat, kappa),
-                                              barrier_second_derivative(g.d, dhat, kappa), true);
+  const PairMatrix psd = gap_function_hessian(g, slope, curvature, true);
   const Eigen::SelfAdjointEigenSolver<PairMatrix> after(psd);
   EXPECT_GE(after.eigenvalues()[0], -1e-9 * after.eigenvalues()[11]);
   EXPECT_LT((psd - projected(h)).norm(), 1e-9 * h.norm());
