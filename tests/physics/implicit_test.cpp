@@ -251,6 +251,29 @@ BlockSparseMatrix random_spd_blocks(int n, unsigned seed, Eigen::MatrixXd* dense
   return A;
 }
 
+// The vertex pairs of a ring of n vertices with full blocks (each vertex with itself and
+// its two neighbours), without those of vertex `left_out` (-1: none).
+std::vector<std::pair<int, int>> ring_pairs(int n, int left_out = -1) {
+  std::vector<std::pair<int, int>> pairs;
+  for (int i = 0; i < n; ++i) {
+    for (int j : {i, (i + 1) % n, (i + n - 1) % n}) {
+      if (i != left_out && j != left_out) pairs.emplace_back(i, j);
+    }
+  }
+  return pairs;
+}
+
+// Sets A's blocks at `pairs` to D's, and returns the dense matrix of those blocks alone.
+Eigen::MatrixXd set_blocks(const Eigen::MatrixXd& D, const std::vector<std::pair<int, int>>& pairs,
+                           BlockSparseMatrix& A) {
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(D.rows(), D.cols());
+  for (const auto& [i, j] : pairs) {
+    Eigen::Map<Mat3>(A.block_values(A.find(i, j))) = D.block<3, 3>(3 * i, 3 * j);
+    dense.block<3, 3>(3 * i, 3 * j) = D.block<3, 3>(3 * i, 3 * j);
+  }
+  return dense;
+}
+
 TEST(LinearSolver, BlockMatrixMultipliesLikeItsDenseCopy) {
   Eigen::MatrixXd D;
   const BlockSparseMatrix A = random_spd_blocks(7, 1, &D);
@@ -322,18 +345,9 @@ TEST(LinearSolver, CholeskyIsExactWithoutDiagonalOnlyBlocks) {
   const BlockSparseMatrix ring = random_spd_blocks(30, 3, &D);
   // Same full blocks, no second-neighbour couplings; vertex 5 removed from the system.
   BlockSparseMatrix A;
-  std::vector<std::pair<int, int>> full;
-  for (int i = 0; i < 30; ++i) {
-    for (int j : {i, (i + 1) % 30, (i + 29) % 30}) {
-      if (i != 5 && j != 5) full.emplace_back(i, j);
-    }
-  }
+  const std::vector<std::pair<int, int>> full = ring_pairs(30, 5);
   A.set_pattern(30, full);
-  Eigen::MatrixXd Dfull = Eigen::MatrixXd::Zero(90, 90);
-  for (const auto& [i, j] : full) {
-    Eigen::Map<Mat3>(A.block_values(A.find(i, j))) = D.block<3, 3>(3 * i, 3 * j);
-    Dfull.block<3, 3>(3 * i, 3 * j) = D.block<3, 3>(3 * i, 3 * j);
-  }
+  const Eigen::MatrixXd Dfull = set_blocks(D, full, A);
   // Drop the second-neighbour couplings from D's diagonal too: A is the full blocks as set.
   CholeskyPreconditioner P;
   ASSERT_TRUE(P.compute(A));
@@ -355,21 +369,14 @@ TEST(LinearSolver, CholeskyTakesBlocksOutsideThePattern) {
   Eigen::MatrixXd D;
   const BlockSparseMatrix ring = random_spd_blocks(30, 3, &D);
   BlockSparseMatrix A;
-  std::vector<std::pair<int, int>> full;
-  for (int i = 0; i < 30; ++i) {
-    for (int j : {i, (i + 1) % 30, (i + 29) % 30}) full.emplace_back(i, j);
-  }
+  const std::vector<std::pair<int, int>> full = ring_pairs(30);
   A.set_pattern(30, full);
   std::mt19937 rng(11);
   std::normal_distribution<double> g;
   CholeskyPreconditioner P;
   const auto solve_with = [&](const std::vector<std::pair<int, int>>& pairs) {
     BlockSparseMatrix B = A;
-    Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(90, 90);
-    for (const auto& [i, j] : full) {
-      Eigen::Map<Mat3>(B.block_values(B.find(i, j))) = D.block<3, 3>(3 * i, 3 * j);
-      dense.block<3, 3>(3 * i, 3 * j) = D.block<3, 3>(3 * i, 3 * j);
-    }
+    Eigen::MatrixXd dense = set_blocks(D, full, B);
     // Each pair: (w w^T) (x) K with w = (1, -0.7) and K = M M^T, its diagonal blocks in B.
     OffPatternBlocks extra;
     for (const auto& [i, j] : pairs) {
