@@ -1066,6 +1066,21 @@ void ruled_bdf2_step(const Model& model, State& state, Workspace& ws, double h, 
   }
 }
 
+// A backward Euler step, under the energy rule unless the scene has wind (as BDF-2, for
+// the same reason). A converged backward Euler step does not gain energy, but a solve
+// kept unconverged (keep_substep) can: a 1000-triangle cotton sheet dropped on a sphere
+// with the constraints at 1/30 s gained 0.2 J, 60% of its weight's work, in three steps
+// whose Newton iterations ran out at 0.5-0.9% of their starting residual.
+void ruled_backward_euler_step(const Model& model, State& state, Workspace& ws, double h,
+                               double t) {
+  if (model.wind) {
+    backward_euler_step(model, state, ws, h, t);
+  } else {
+    energy_ruled_step(model, state, ws, h, t, backward_euler_step,
+                      ContactWork::NearMovingObstacles);
+  }
+}
+
 void method_step(const Model& model, State& state, Workspace& ws, double h, double t) {
   switch (model.integrator) {
     case Integrator::Bdf2:
@@ -1075,7 +1090,7 @@ void method_step(const Model& model, State& state, Workspace& ws, double h, doub
       energy_ruled_step(model, state, ws, h, t, midpoint_solve, ContactWork::MidpointRule);
       break;
     default:
-      backward_euler_step(model, state, ws, h, t);
+      ruled_backward_euler_step(model, state, ws, h, t);
       break;
   }
 }
@@ -1083,7 +1098,7 @@ void method_step(const Model& model, State& state, Workspace& ws, double h, doub
 }  // namespace
 
 const ImplicitReport& backward_euler(const Model& model, State& state, Workspace& ws) {
-  backward_euler_step(model, state, ws, model.dt, state.t);
+  ruled_backward_euler_step(model, state, ws, model.dt, state.t);
   return *last_implicit_report(ws);
 }
 
