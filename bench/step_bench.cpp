@@ -134,7 +134,7 @@ void compare_obstacles(bool quick) {
   const double simd = best_seconds_per_call(
       [&] {
         for (int first = 0; first < n; first += ForcePlan::kVerticesPerBlock) {
-          collide_block(placed, response, s.model.pinned, first,
+          collide_block(placed, response, s.model.pinned, s.model.mass, first,
                         std::min(n, first + ForcePlan::kVerticesPerBlock), s.state.x,
                         s.state.v);
         }

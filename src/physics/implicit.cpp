@@ -1097,6 +1097,14 @@ void method_step(const Model& model, State& state, Workspace& ws, double h, doub
 
 }  // namespace
 
+double moving_obstacles_work(const Model& model, const State& start, const State& end, double h,
+                             Workspace& ws) {
+  ImplicitSolver& s = solver_of(ws);
+  midpoint_path(start.x, end.x, h, s.work_x, s.work_v);
+  return moving_contact_work(model, start, end, s.work_x, s.work_v, h, start.t,
+                             mean_rest_edge(model), ws, s.work_f);
+}
+
 const ImplicitReport& backward_euler(const Model& model, State& state, Workspace& ws) {
   ruled_backward_euler_step(model, state, ws, model.dt, state.t);
   return *last_implicit_report(ws);

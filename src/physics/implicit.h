@@ -108,4 +108,10 @@ constexpr double kMotionLimit = 2.0 * kSubstepMotion;
 // the count kept.
 void integrate_implicit(const Model& model, State& state, Workspace& ws);
 
+// The work moving obstacles did on the cloth over an implicit step of h from `start` (at
+// start.t) to `end`, J: each free vertex's contact impulse, what the method's forces do not
+// explain, dotted with the velocity of the moving surface nearest it (within an edge).
+double moving_obstacles_work(const Model& model, const State& start, const State& end, double h,
+                             Workspace& ws);
+
 }  // namespace tissu

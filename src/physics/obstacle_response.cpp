@@ -24,9 +24,10 @@ double distance_if_near(const PlacedObstacle& placed, const Vec3& p, Vec3* norma
 
 }  // namespace
 
-void collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
-                    Vec3& x, Vec3& v) {
+double collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
+                      Vec3& x, Vec3& v) {
   constexpr int kPasses = 4;
+  double work = 0.0;  // m^2/s^2
   for (int pass = 0; pass < kPasses; ++pass) {
     bool moved = false;
     for (const PlacedObstacle& placed : obstacles) {
@@ -54,24 +55,29 @@ void collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionRespo
           if (again > 0.0) x += again * m;
         }
       }
-      v = surface_velocity + tangential;
+      const Vec3 changed = surface_velocity + tangential;
+      work += (changed - v).dot(surface_velocity);
+      v = changed;
     }
     if (!moved) break;
   }
+  return work;
 }
 
-void collide_block(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
-                   const std::vector<uint8_t>& pinned, int first, int end, Vec3List& x,
-                   Vec3List& v) {
+double collide_block(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
+                     const std::vector<uint8_t>& pinned, const std::vector<double>& mass,
+                     int first, int end, Vec3List& x, Vec3List& v) {
   int near[ForcePlan::kVerticesPerBlock];
+  double work = 0.0;  // J
   for (int begin = first; begin < end; begin += ForcePlan::kVerticesPerBlock) {
     const int stop = std::min(end, begin + ForcePlan::kVerticesPerBlock);
     const int count = select_near_obstacles(obstacles, x, begin, stop, near);
     for (int k = 0; k < count; ++k) {
       const int i = near[k];
-      if (!pinned[i]) collide_vertex(obstacles, response, x[i], v[i]);
+      if (!pinned[i]) work += mass[i] * collide_vertex(obstacles, response, x[i], v[i]);
     }
   }
+  return work;
 }
 
 }  // namespace tissu

@@ -33,16 +33,19 @@ constexpr CollisionResponse kImplicitResponse{1e-9, false};
 // normal velocity relative to the obstacle is removed and (with friction) Coulomb friction
 // slows the tangential velocity by mu * |removed normal part| (and moves x by
 // response.position_weight times that change). Overlapping obstacles:
-// repeated until it is clear of all (at most four passes).
-void collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
-                    Vec3& x, Vec3& v);
+// repeated until it is clear of all (at most four passes). Returns the work per unit mass
+// the obstacles' motion did on the vertex, m^2/s^2: each velocity change dotted with the
+// velocity of the surface that made it (0 where no obstacle moves).
+double collide_vertex(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
+                      Vec3& x, Vec3& v);
 
 // collide_vertex on the free vertices of [first, end) (pinned: (V) 1 = pinned) that the
 // vectorised near-test (obstacle_simd.h) selects; the others are farther than the
 // thickness from every obstacle, which collide_vertex would leave alone. The same bits
-// as collide_vertex on every free vertex, on any vector width.
-void collide_block(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
-                   const std::vector<uint8_t>& pinned, int first, int end, Vec3List& x,
-                   Vec3List& v);
+// as collide_vertex on every free vertex, on any vector width. Returns the work the
+// obstacles' motion did on those vertices (masses in kg), J.
+double collide_block(const std::vector<PlacedObstacle>& obstacles, CollisionResponse response,
+                     const std::vector<uint8_t>& pinned, const std::vector<double>& mass,
+                     int first, int end, Vec3List& x, Vec3List& v);
 
 }  // namespace tissu

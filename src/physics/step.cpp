@@ -84,6 +84,14 @@ int vertex_holding_most_energy(const Model& model, const State& state) {
   return most;
 }
 
+// Whether an obstacle moves within [t0, t1] (s).
+bool obstacle_moves(const Model& model, double t0, double t1) {
+  for (const Obstacle& ob : model.obstacles) {
+    if (ob.motion.moves_between(t0, t1)) return true;
+  }
+  return false;
+}
+
 // Energy beyond the workspace's limit: a divergence naming the energy and the limit.
 std::optional<Divergence> energy_divergence(const Model& model, const State& state,
                                             double limit) {
@@ -135,6 +143,16 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   if (!scratch.has_energy_limit) {
     scratch.energy_limit = energy_limit(model, state);
     scratch.has_energy_limit = true;
+    scratch.obstacle_work = 0.0;
+  }
+  // A moving obstacle can push cloth held by its pins as far as it goes: the energy the
+  // check allows grows by the work it measures it doing.
+  const bool moving = obstacle_moves(model, state.t, t_new);
+  if (moving && explicit_step) scratch.block_work.assign(forces.num_blocks(), 0.0);
+  if (moving && !explicit_step) {
+    scratch.step_start.x = state.x;
+    scratch.step_start.v = state.v;
+    scratch.step_start.t = state.t;
   }
 
   if (model.position_correction) scratch.x_old.resize(n);
@@ -170,7 +188,9 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
       }
     }
     if (!scratch.placed.empty()) {
-      collide_block(scratch.placed, response, model.pinned, first, end, state.x, state.v);
+      const double work = collide_block(scratch.placed, response, model.pinned, model.mass,
+                                        first, end, state.x, state.v);
+      if (moving && explicit_step) scratch.block_work[block] = work;
     }
     if (fused_check) return;
     if (fused) {
@@ -195,15 +215,27 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
     // explicit step).
     for (int i = 0; i < n && !scratch.placed.empty(); ++i) {
       if (model.pinned[i] || state.x[i] == scratch.x_staged[i]) continue;
-      collide_vertex(scratch.placed, response, state.x[i], state.v[i]);
+      const double work = collide_vertex(scratch.placed, response, state.x[i], state.v[i]);
+      if (moving) scratch.block_work[0] += model.mass[i] * work;  // summed with the blocks'
     }
+  }
+
+  if (moving) {
+    double work = 0.0;  // J
+    if (explicit_step) {
+      for (double w : scratch.block_work) work += w;
+    } else {
+      work = moving_obstacles_work(model, scratch.step_start, state, h, ws);
+    }
+    scratch.obstacle_work += std::max(work, 0.0);
   }
 
   state.step += 1;
   state.t = t_new;
   std::optional<Divergence> divergence = divergence_of(model, state, scratch.checks);
   if (!divergence && (!explicit_step || state.step % kExplicitEnergyCheck == 0)) {
-    divergence = energy_divergence(model, state, scratch.energy_limit);
+    divergence =
+        energy_divergence(model, state, scratch.energy_limit + 10.0 * scratch.obstacle_work);
   }
   return divergence;
 }

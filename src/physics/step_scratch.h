@@ -33,6 +33,11 @@ struct StepScratch {
   Vec3List x_staged;                         // (V) positions before the collision stage, m
   double energy_limit = 0.0;  // J, of the state the workspace first stepped (energy_limit)
   bool has_energy_limit = false;
+  // Moving obstacles' work on the cloth since then, J: the positive part of each step's,
+  // which the limit takes ten times.
+  double obstacle_work = 0.0;
+  std::vector<double> block_work;  // (vertex blocks) this step's, explicit steps, J
+  State step_start;                // positions and velocities at an implicit step's start
 };
 
 // The workspace's scratch, created on first use.

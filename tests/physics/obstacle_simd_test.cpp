@@ -67,7 +67,7 @@ void collide_blocks(const Model& model, double t, Vec3List& x, Vec3List& v) {
   for (const Obstacle& o : model.obstacles) placed.push_back(place_obstacle(o, t));
   for (int first = 0; first < model.num_vertices(); first += ForcePlan::kVerticesPerBlock) {
     const int end = std::min(model.num_vertices(), first + ForcePlan::kVerticesPerBlock);
-    collide_block(placed, explicit_response(model), model.pinned, first, end, x, v);
+    collide_block(placed, explicit_response(model), model.pinned, model.mass, first, end, x, v);
   }
 }
 
@@ -138,6 +138,7 @@ void check_thickness_points() {
       x.push_back(Vec3(0.3, 0.2, 0.1));  // a tail for every lane count
       model.rest_uv.assign(x.size(), Vec2::Zero());
       model.pinned.assign(x.size(), 0);
+      model.mass.assign(x.size(), 1.0);  // kg
       int at = 0, inside = 0, outside = 0;
       for (const Vec3& p : x) {
         Vec3 n;
