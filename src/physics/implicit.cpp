@@ -1123,29 +1123,61 @@ const ImplicitReport& implicit_midpoint(const Model& model, State& state, Worksp
 
 namespace {
 
+// The length a vertex may close on an obstacle per substep, twice over (m): a sphere's or
+// cylinder's radius, a mesh's mean rest edge of the cloth (its parts may be thin); 0 for a
+// plane, which no vertex passes without ending inside it.
+double passing_size(const Obstacle& ob, double edge) {
+  return ob.kind == ObstacleKind::Plane  ? 0.0
+         : ob.kind == ObstacleKind::Mesh ? edge
+                                         : ob.radius;
+}
+
 // For each obstacle, the largest approach speed (m/s) of the vertices that may reach it
-// within the step (0: none). A moving obstacle is looked at where it starts the step as
-// well as where it ends it: one that passes the cloth within the step is, at its end,
-// moving away from the vertices it passed.
-std::vector<double> approach_speeds(const Model& model, const State& state) {
+// within the step (`speed`, 0: none), and of those that may pass it (`passing`): with the
+// velocity gravity adds over the step, a vertex that would move farther than the obstacle's
+// passing_size (a sheet let go at rest 0.1 m above a sphere of radius 0.25 m fell through
+// it in one step of 0.25 s, which its start velocity did not foresee); not a vertex held
+// where it rests (at the thickness, or within the barrier's distance), which the contact
+// catches again. A moving obstacle is
+// looked at where it starts the step as well as where it ends it: one that passes the cloth
+// within the step is, at its end, moving away from the vertices it passed.
+struct Approaches {
+  std::vector<double> speed, passing;  // (obstacles) m/s
+};
+
+Approaches approach_speeds(const Model& model, const State& state) {
   const double h = model.dt;
   const double fall = model.gravity ? 0.5 * model.gravity->norm() * h * h : 0.0;  // m
-  std::vector<double> speeds(model.obstacles.size(), 0.0);
+  const Vec3 gained = model.gravity ? Vec3(*model.gravity * h) : Vec3::Zero();     // m/s
+  const double edge = mean_rest_edge(model);
+  const double held =  // m: the gap where a vertex rests held by its contact
+      1e-6 + (model.implicit.contact == ContactModel::Barrier ? barrier_distance(model) : 0.0);
+  Approaches out;
+  out.speed.assign(model.obstacles.size(), 0.0);
+  out.passing.assign(model.obstacles.size(), 0.0);
   for (size_t o = 0; o < model.obstacles.size(); ++o) {
     const Obstacle& ob = model.obstacles[o];
+    const double size = passing_size(ob, edge);  // m
     for (const double t : {state.t + h, state.t}) {
       const PlacedObstacle placed = place_obstacle(ob, t);
       for (int i = 0; i < model.num_vertices(); ++i) {
         if (model.pinned[i]) continue;
         const SurfacePoint p = placed.closest(state.x[i]);
-        const double approach = -p.normal.dot(state.v[i] - p.velocity);  // m/s
-        if (approach <= 0.0) continue;
-        if (p.distance - ob.thickness < approach * h + fall) speeds[o] = std::max(speeds[o], approach);
+        const Vec3 relative = state.v[i] - p.velocity;  // m/s
+        const double approach = -p.normal.dot(relative);
+        const double gap = p.distance - ob.thickness;  // m
+        if (approach > 0.0 && gap < approach * h + fall) {
+          out.speed[o] = std::max(out.speed[o], approach);
+        }
+        const double falling = -p.normal.dot(relative + gained);  // m/s, at the step's end
+        if (size > 0.0 && falling * h > size && gap > held && gap < falling * h) {
+          out.passing[o] = std::max(out.passing[o], falling);
+        }
       }
       if (!ob.motion.moves()) break;
     }
   }
-  return speeds;
+  return out;
 }
 
 int substeps_for(const Model& model, double rate) {
@@ -1181,16 +1213,14 @@ SubstepNeeds substep_needs(const Model& model, const State& state) {
   // Vertices that may reach an obstacle within the step, by their approach speed over the
   // mean rest edge; and for passing, over the obstacle's own size.
   const double edge = mean_rest_edge(model);
-  const std::vector<double> speeds = approach_speeds(model, state);
+  const Approaches approaches = approach_speeds(model, state);
   double passing = 0.0;  // 1/s
-  for (size_t o = 0; o < speeds.size(); ++o) {
-    if (speeds[o] == 0.0) continue;
-    if (edge > 0.0) rate = std::max(rate, speeds[o] / edge);
-    const Obstacle& ob = model.obstacles[o];
-    const double size = ob.kind == ObstacleKind::Plane ? 0.0
-                        : ob.kind == ObstacleKind::Mesh ? edge
-                                                        : ob.radius;  // m
-    if (size > 0.0) passing = std::max(passing, speeds[o] / size);
+  for (size_t o = 0; o < model.obstacles.size(); ++o) {
+    const double speed = approaches.speed[o];  // m/s
+    if (speed > 0.0 && edge > 0.0) rate = std::max(rate, speed / edge);
+    const double size = passing_size(model.obstacles[o], edge);  // m
+    const double fastest = std::max(speed, approaches.passing[o]);
+    if (size > 0.0) passing = std::max(passing, fastest / size);
   }
   needs.predicted = substeps_for(model, rate);
   needs.passing = substeps_for(model, passing);

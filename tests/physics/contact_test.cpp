@@ -487,6 +487,38 @@ TEST(Contact, SheetDroppedOnASphereAtThirtyHertzNeverEndsInsideNorGainsEnergy) {
   }
 }
 
+// A sheet let go at rest 5 cm above a sphere of radius 0.15 m, with steps of 0.25 s: in
+// one step gravity alone would carry it 0.6 m, through the sphere. Its start velocity (0)
+// foresaw no approach, and with the constraints the sheet fell through the sphere
+// untouched (the barrier's line search stopped it) before the substeps counted the
+// velocity gravity adds over the step (implicit.cpp, approach_speeds). It lands on the
+// sphere instead, and no vertex ends a step inside.
+TEST(Contact, SheetLetGoAboveASphereWithQuarterSecondStepsLandsOnIt) {
+  for (auto [integrator, contact] : {std::pair{Integrator::BackwardEuler, ContactModel::Constraints},
+                                     std::pair{Integrator::Bdf2, ContactModel::Constraints},
+                                     std::pair{Integrator::BackwardEuler, ContactModel::Barrier}}) {
+    SCOPED_TRACE(std::string(integrator_name(integrator)) +
+                 (contact == ContactModel::Barrier ? ", barrier" : ", constraints"));
+    Sheet s = cotton_sheet(0.6, 14, integrator, 0.25);
+    s.model.implicit.contact = contact;
+    const double radius = 0.15;
+    s.model.obstacles.push_back(sphere(Vec3(0.0, 0.0, -radius - 0.05), radius, 0.3, 0.0));
+    Workspace ws;
+    double closest = INFINITY;
+    for (int k = 0; k < 4; ++k) {
+      ASSERT_FALSE(step(s.model, s.state, ws)) << "step " << k;
+      Vec3 n;
+      for (const Vec3& p : s.state.x) {
+        closest = std::min(closest, s.model.obstacles[0].signed_distance(p, s.state.t, &n));
+      }
+    }
+    EXPECT_GE(closest, -1e-9);
+    double highest = -INFINITY;  // m
+    for (const Vec3& p : s.state.x) highest = std::max(highest, p.z());
+    EXPECT_GT(highest, -0.06) << "the sheet rests on the sphere's top (z = -0.05 m)";
+  }
+}
+
 // A 0.4 m cotton sheet hanging in the x-z plane from its top row, and a ball (radius 6 cm,
 // friction 0.2, thickness 1 mm) 0.2 m in front of it moving at `speed` (m/s) through the
 // sheet's plane.
