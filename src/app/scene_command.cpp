@@ -77,6 +77,13 @@ int run_scene(const std::vector<std::string>& args, bool render) {
   const Scene scene = load_scene(options.scene_file, options.overrides);
   const RenderSettings settings = render_settings_of(scene);
   Simulation sim = build_simulation(scene);
+  if (scene.position_correction && !is_explicit(scene.integrator)) {
+    // Discontinuous at its threshold, it tears cloth at frame-rate steps (docs/paper.md).
+    std::cerr << "warning: " << options.scene_file << ": position_correction with "
+              << integrator_name(scene.integrator)
+              << ": the paper's correction is made for explicit steps; at dt = " << scene.dt
+              << " s it moves neighbours apart by up to half its threshold\n";
+  }
 
   RunOptions run;
   run.frame_rate = frames_per_simulated_second(settings);
