@@ -1067,10 +1067,11 @@ void ruled_bdf2_step(const Model& model, State& state, Workspace& ws, double h, 
 }
 
 // A backward Euler step, under the energy rule unless the scene has wind (as BDF-2, for
-// the same reason). A converged backward Euler step does not gain energy, but a solve
-// kept unconverged (keep_substep) can: a 1000-triangle cotton sheet dropped on a sphere
-// with the constraints at 1/30 s gained 0.2 J, 60% of its weight's work, in three steps
-// whose Newton iterations ran out at 0.5-0.9% of their starting residual.
+// the same reason). An exact backward Euler step does not gain energy, but Newton stops
+// at newton_tolerance (1e-2 of the starting residual by default), short of it: a
+// 1000-triangle cotton sheet dropped on a sphere with the constraints at 1/30 s gained
+// 0.2 J, 60% of its weight's work until then, in three steps that Newton ended at 0.4-0.9%
+// of their starting residual.
 void ruled_backward_euler_step(const Model& model, State& state, Workspace& ws, double h,
                                double t) {
   if (model.wind) {

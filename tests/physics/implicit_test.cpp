@@ -907,10 +907,10 @@ TEST(Scenes, ImplicitIntegratorsAreSceneChoices) {
 
 // A 1 m cotton sheet (1000 irregular triangles) dropped 0.1 m onto a sphere, its sides
 // falling on to the ground, with the constraints at 1/30 s: no step raises the total energy.
-// A Newton solve that ran out of iterations is kept once it has cut its residual a
-// hundredfold (implicit.cpp, keep_substep); with backward Euler such steps were kept
-// unchecked, and three in a row gained 0.2 J here (60% of the weight's work over the fall;
-// the largest strain reached 15%) before backward Euler took the other methods' energy rule.
+// Newton stops once it has cut its residual a hundredfold (newton_tolerance), short of the
+// exact step; with backward Euler nothing checked the energy of such steps, and three in a
+// row gained 0.2 J here (60% of the weight's work until then; the largest strain reached
+// 15%) before backward Euler took the other methods' energy rule.
 TEST(Scenes, WideSheetLandingOnASphereAtThirtyHertzNeverGainsEnergy) {
   for (Integrator integrator : {Integrator::BackwardEuler, Integrator::Bdf2}) {
     SCOPED_TRACE(integrator_name(integrator));
