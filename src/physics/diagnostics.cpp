@@ -86,6 +86,13 @@ double max_obstacle_speed(const Obstacle& obstacle) {
   return speed + fastest;
 }
 
+bool has_moving_obstacle(const Model& model, double t0, double t1) {
+  for (const Obstacle& ob : model.obstacles) {
+    if (ob.motion.moves_between(t0, t1)) return true;
+  }
+  return false;
+}
+
 double energy_scale(const Model& model, const State& start) {
   const double mass = total_mass(model);
   double scale = 0.0;

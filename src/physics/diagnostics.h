@@ -33,6 +33,10 @@ double total_mass(const Model& model);
 // plus its fastest keyframe segment (translation, and a mesh's turn times its reach).
 double max_obstacle_speed(const Obstacle& obstacle);
 
+// Whether an obstacle moves within [t0, t1] (s): it can then put energy into the cloth
+// through its contacts over that time.
+bool has_moving_obstacle(const Model& model, double t0, double t1);
+
 // The energy a run may reasonably gain over its duration, J: the work gravity can do over the
 // cloth's size, M |g| L (L = diagonal of the cloth's bounding box at the start), plus the
 // kinetic energy external drivers can give the whole cloth, M v_ext^2 / 2 (v_ext = the

@@ -105,15 +105,6 @@ struct StepEquation {
   double warm_scale = 1.0;
 };
 
-// An obstacle that moves within [t0, t1] (s) can put energy into the cloth through its
-// contacts over that time.
-bool has_moving_obstacle(const Model& model, double t0, double t1) {
-  for (const Obstacle& ob : model.obstacles) {
-    if (ob.motion.moves_between(t0, t1)) return true;
-  }
-  return false;
-}
-
 // Wind or an obstacle moving within [t0, t1] can put energy into the cloth.
 bool supplies_energy(const Model& model, double t0, double t1) {
   return model.wind || has_moving_obstacle(model, t0, t1);

@@ -84,14 +84,6 @@ int vertex_holding_most_energy(const Model& model, const State& state) {
   return most;
 }
 
-// Whether an obstacle moves within [t0, t1] (s).
-bool obstacle_moves(const Model& model, double t0, double t1) {
-  for (const Obstacle& ob : model.obstacles) {
-    if (ob.motion.moves_between(t0, t1)) return true;
-  }
-  return false;
-}
-
 // Energy beyond the workspace's limit: a divergence naming the energy and the limit.
 std::optional<Divergence> energy_divergence(const Model& model, const State& state,
                                             double limit) {
@@ -147,7 +139,7 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   }
   // A moving obstacle can push cloth held by its pins as far as it goes: the energy the
   // check allows grows by the work it measures it doing.
-  const bool moving = obstacle_moves(model, state.t, t_new);
+  const bool moving = has_moving_obstacle(model, state.t, t_new);
   if (moving && explicit_step) scratch.block_work.assign(forces.num_blocks(), 0.0);
   if (moving && !explicit_step) {
     scratch.step_start.x = state.x;

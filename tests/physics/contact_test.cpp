@@ -718,9 +718,6 @@ TEST(Divergence, EnergyBeyondWhatTheSceneSuppliesIsReported) {
   EXPECT_NE(d->reason.find("energy"), std::string::npos) << d->reason;
 }
 
-// The divergence names the vertex holding the most energy: here the one vertex thrown out
-// of the sheet at 90 m/s (below max_speed), which keeps most of it in its motion and its
-// triangles until the explicit steps' energy check sees it.
 // A sphere driven up at 0.4 m/s into a 0.6 m cotton sheet held along two opposite edges
 // stretches it as far as it goes: the energy it puts in is real, and the run is no
 // divergence. The check allowed only what gravity and the obstacle's speed could give, and
@@ -757,6 +754,9 @@ TEST(Divergence, SphereDrivenThroughASheetHeldAtTwoEdgesIsNoDivergence) {
   }
 }
 
+// The divergence names the vertex holding the most energy: here the one vertex thrown out
+// of the sheet at 90 m/s (below max_speed), which keeps most of it in its motion and its
+// triangles until the explicit steps' energy check sees it.
 TEST(Divergence, EnergyDivergenceNamesTheVertexHoldingIt) {
   Sheet s = cotton_sheet(0.3, 6, Integrator::SymplecticEuler, 1e-6);
   Workspace ws;
