@@ -147,7 +147,8 @@ class BarrierContact {
   // it where it ends, and drawn back to 0.9 of the first touch, toward x_n carried by that
   // obstacle's motion near it, at most four times (then pairs still crossed are left out
   // of the step). Self pairs are checked on the same paths and drawn back toward x_n.
-  // Every draw-back is followed by the push out of the obstacles.
+  // Every draw-back is followed by the push out of the obstacles; self pairs whose paths
+  // still touch after the last one are held apart (hold_touching_pairs).
   void make_feasible(Vec3List& v, const Vec3List& v_base,
                      const std::function<const Vec3List&()>& forces);
 
@@ -209,6 +210,11 @@ class BarrierContact {
   bool has_pairs() const { return features_.active() || self_.active(); }
   // The end positions of all vertices at v, in x_end_ (when a mesh has features).
   const Vec3List& end_positions(const Vec3List& v) const;
+  // After make_feasible's last push out: the vertices of self pairs whose paths from x_n
+  // to the guess still touch are held at x_n (where those pairs are apart), where every
+  // obstacle is clear of them, so that the solve keeps those pairs instead of leaving them
+  // out of the step.
+  void hold_touching_pairs(Vec3List& v);
   // Pushes the end position of each free vertex closer than dhat / 2 out (make_feasible);
   // f: the forces at x_n once taken.
   void push_out(Vec3List& v, const Vec3List& v_base,

@@ -169,23 +169,39 @@ double SelfBarrier::closing_bound(const Pair& pair, const Vec3List& from, const 
   return side[0] + side[1];
 }
 
+double SelfBarrier::touch_of(const Pair& pair, const Vec3List& from, const Vec3List& to,
+                             double before) const {
+  const PairGap g0 = gap_of(pair, from);
+  if (g0.d <= 0.0) return 0.0;
+  const double speed = closing_bound(pair, from, to);  // m per unit of t
+  if (speed <= 0.0 || g0.d >= speed * before) return before;
+  double t = 0.0, d = g0.d;
+  for (int k = 0; k < kMaxAdvances && d > kTouchFraction * g0.d; ++k) {
+    t += d / speed;
+    if (t >= before) return before;
+    const auto along = [&](int i) -> Vec3 { return from[i] + t * (to[i] - from[i]); };
+    d = gap_at(pair.v, pair.edge_edge, along).d;
+  }
+  return t;
+}
+
 double SelfBarrier::first_touch(const Vec3List& from, const Vec3List& to) const {
   double first = 1.0;
   for (const Pair& pair : pairs_) {
-    const PairGap g0 = gap_of(pair, from);
-    if (g0.d <= 0.0) return 0.0;
-    const double speed = closing_bound(pair, from, to);  // m per unit of t
-    if (speed <= 0.0 || g0.d >= speed * first) continue;
-    double t = 0.0, d = g0.d;
-    for (int k = 0; k < kMaxAdvances && d > kTouchFraction * g0.d; ++k) {
-      t += d / speed;
-      if (t >= first) break;
-      const auto along = [&](int i) -> Vec3 { return from[i] + t * (to[i] - from[i]); };
-      d = gap_at(pair.v, pair.edge_edge, along).d;
-    }
-    first = std::min(first, t);
+    first = std::min(first, touch_of(pair, from, to, first));
+    if (first == 0.0) break;
   }
   return first;
+}
+
+std::vector<SelfBarrier::Touch> SelfBarrier::touches(const Vec3List& from,
+                                                     const Vec3List& to) const {
+  std::vector<Touch> found;
+  for (const Pair& pair : pairs_) {
+    const double t = touch_of(pair, from, to, 1.0);
+    if (t < 1.0) found.push_back({pair.v, t});
+  }
+  return found;
 }
 
 }  // namespace tissu

@@ -57,6 +57,14 @@ class SelfBarrier {
   // gap falls to zero, at or before the touch; 1 if none does.
   double first_touch(const Vec3List& from, const Vec3List& to) const;
 
+  // The pairs whose paths from `from` to `to` (m) touch, each with its first touch as
+  // first_touch finds it, in [0, 1).
+  struct Touch {
+    std::array<int, 4> vertices;
+    double t = 0.0;
+  };
+  std::vector<Touch> touches(const Vec3List& from, const Vec3List& to) const;
+
  private:
   struct Pair {
     std::array<int, 4> v;  // vertex, triangle; or edge, edge
@@ -69,6 +77,9 @@ class SelfBarrier {
   template <typename Position>
   PairGap gap_at(const std::array<int, 4>& ids, bool edge_edge, Position position) const;
   bool neighbours_at_rest(const Pair& pair, double reach) const;
+  // The first touch of one pair on its paths, at most `before`.
+  double touch_of(const Pair& pair, const Vec3List& from, const Vec3List& to,
+                  double before) const;
   // How far the pair's gap may fall on the paths from `from` to `to`, m: the largest motion
   // about the four vertices' mean motion on one side plus that on the other.
   static double closing_bound(const Pair& pair, const Vec3List& from, const Vec3List& to);
