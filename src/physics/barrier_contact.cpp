@@ -332,8 +332,8 @@ void BarrierContact::hold_touching_pairs(Vec3List& v) {
     const Vec3List& x_end = end_positions(v);
     self_.find_pairs(x_n, x_end, dhat_);
     bool held = false;
-    for (const SelfBarrier::Touch& touch : self_.touches(x_n, x_end)) {
-      for (const int i : touch.vertices) {
+    for (const std::array<int, 4>& pair : self_.touching_pairs(x_n, x_end)) {
+      for (const int i : pair) {
         if (model_->pinned[i] || !clear(x_n[i])) continue;
         const Vec3 stay = (x_n[i] - (*x_end_base_)[i]) / beta_end_;  // m/s
         held = held || v[i] != stay;

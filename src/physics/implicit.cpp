@@ -1137,11 +1137,11 @@ struct Approaches {
   std::vector<double> speed, passing;  // (obstacles) m/s
 };
 
-Approaches approach_speeds(const Model& model, const State& state) {
+// edge: the cloth's mean rest edge, m.
+Approaches approach_speeds(const Model& model, const State& state, double edge) {
   const double h = model.dt;
   const double fall = model.gravity ? 0.5 * model.gravity->norm() * h * h : 0.0;  // m
   const Vec3 gained = model.gravity ? Vec3(*model.gravity * h) : Vec3::Zero();     // m/s
-  const double edge = mean_rest_edge(model);
   const double held =  // m: the gap where a vertex rests held by its contact
       1e-6 + (model.implicit.contact == ContactModel::Barrier ? barrier_distance(model) : 0.0);
   Approaches out;
@@ -1205,7 +1205,7 @@ SubstepNeeds substep_needs(const Model& model, const State& state) {
   // Vertices that may reach an obstacle within the step, by their approach speed over the
   // mean rest edge; and for passing, over the obstacle's own size.
   const double edge = mean_rest_edge(model);
-  const Approaches approaches = approach_speeds(model, state);
+  const Approaches approaches = approach_speeds(model, state, edge);
   double passing = 0.0;  // 1/s
   for (size_t o = 0; o < model.obstacles.size(); ++o) {
     const double speed = approaches.speed[o];  // m/s

@@ -194,12 +194,11 @@ double SelfBarrier::first_touch(const Vec3List& from, const Vec3List& to) const 
   return first;
 }
 
-std::vector<SelfBarrier::Touch> SelfBarrier::touches(const Vec3List& from,
-                                                     const Vec3List& to) const {
-  std::vector<Touch> found;
+std::vector<std::array<int, 4>> SelfBarrier::touching_pairs(const Vec3List& from,
+                                                            const Vec3List& to) const {
+  std::vector<std::array<int, 4>> found;
   for (const Pair& pair : pairs_) {
-    const double t = touch_of(pair, from, to, 1.0);
-    if (t < 1.0) found.push_back({pair.v, t});
+    if (touch_of(pair, from, to, 1.0) < 1.0) found.push_back(pair.v);
   }
   return found;
 }

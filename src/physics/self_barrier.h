@@ -57,13 +57,9 @@ class SelfBarrier {
   // gap falls to zero, at or before the touch; 1 if none does.
   double first_touch(const Vec3List& from, const Vec3List& to) const;
 
-  // The pairs whose paths from `from` to `to` (m) touch, each with its first touch as
-  // first_touch finds it, in [0, 1).
-  struct Touch {
-    std::array<int, 4> vertices;
-    double t = 0.0;
-  };
-  std::vector<Touch> touches(const Vec3List& from, const Vec3List& to) const;
+  // The vertices of the pairs whose paths from `from` to `to` (m) touch, as first_touch
+  // finds a touch.
+  std::vector<std::array<int, 4>> touching_pairs(const Vec3List& from, const Vec3List& to) const;
 
  private:
   struct Pair {
