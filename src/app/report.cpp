@@ -91,6 +91,9 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
                          {"impact_zones", result.totals.contact_zones},
                          {"rigid_zones", result.totals.contact_rigid_zones},
                          {"unresolved_impacts", result.totals.contact_unresolved}};
+    if (!is_explicit(model.integrator)) {
+      report["contact"]["barrier_pairs"] = result.totals.barrier_pairs;
+    }
   }
   if (!result.checks.empty()) {
     const CheckSummary summary = summarize_checks(result.checks);

@@ -190,7 +190,9 @@ double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u)
 
 void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3List& x_end_base,
                            double beta, double beta_end, double t, double t_end) {
-  enabled_ = model.implicit.contact == ContactModel::Barrier;
+  const bool obstacles = model.implicit.contact == ContactModel::Barrier;
+  enabled_ = obstacles || model.self_collision.has_value();
+  takes_obstacles_ = obstacles;
   placed_.clear();
   placed_start_.clear();
   friction_.clear();
@@ -207,7 +209,11 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   kappa_.resize(n);
   stiffness_dt_ = stiffness_step(model);
   for (int i = 0; i < n; ++i) kappa_[i] = barrier_stiffness(model.mass[i], stiffness_dt_);
-  features_.begin(model, t, t_end);
+  if (obstacles) {
+    features_.begin(model, t, t_end);
+  } else {
+    features_.end();
+  }
   self_.begin(model);
   coupling_.clear();
   pair_friction_.clear();
@@ -223,6 +229,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
     });
   }
   for (const Obstacle& ob : model.obstacles) {
+    if (!obstacles) break;
     placed_.push_back(place_obstacle(ob, t_end));
     placed_start_.push_back(place_obstacle(ob, t));
     if (ob.friction == 0.0) continue;
@@ -529,8 +536,8 @@ double BarrierContact::largest_step(const Vec3List& v, const Eigen::VectorXd& dv
   return step;
 }
 
-int BarrierContact::active(const Vec3List& v, double* smallest_gap) const {
-  int count = 0;
+int BarrierContact::active(const Vec3List& v, double* smallest_gap, int* pairs) const {
+  int count = 0, within = 0;
   double smallest = std::numeric_limits<double>::infinity();
   if (enabled_) {
     for (int i = 0; i < model_->num_vertices(); ++i) {
@@ -546,19 +553,23 @@ int BarrierContact::active(const Vec3List& v, double* smallest_gap) const {
     if (has_pairs()) {
       for_each_pair(end_positions(v), [&](const PairGap& g, double) {
         smallest = std::min(smallest, g.d);
-        count += g.d < dhat_ ? 1 : 0;
+        within += g.d < dhat_ ? 1 : 0;
       });
     }
   }
   if (smallest_gap) *smallest_gap = smallest;
+  if (pairs) *pairs = within;
+  count += within;
   return count;
 }
 
 double BarrierContact::energy_of(const Model& model, const Vec3List& x, double t) {
-  if (model.implicit.contact != ContactModel::Barrier) return 0.0;
+  const bool obstacles = model.implicit.contact == ContactModel::Barrier;
+  if (!obstacles && !model.self_collision) return 0.0;
   const double dhat = barrier_distance(model), dt = stiffness_step(model);
   double total = 0.0;
   for (const Obstacle& ob : model.obstacles) {
+    if (!obstacles) break;
     const PlacedObstacle placed = place_obstacle(ob, t);
     for (int i = 0; i < model.num_vertices(); ++i) {
       if (model.pinned[i]) continue;
@@ -569,8 +580,8 @@ double BarrierContact::energy_of(const Model& model, const Vec3List& x, double t
   const auto add_pair = [&](const PairGap& g) {
     total += barrier_energy(g.d, dhat, pair_stiffness(model, g, dt));
   };
-  energy_features_.begin(model, t, t);
-  if (energy_features_.active()) {
+  if (obstacles) energy_features_.begin(model, t, t);
+  if (obstacles && energy_features_.active()) {
     energy_features_.find_pairs(x, x, dhat);
     energy_features_.for_each_gap(x, add_pair);
   }

@@ -125,11 +125,15 @@ class BarrierContact {
  public:
   // At the start of a step from positions x_n at t (s) to t_end: the analytic obstacles
   // placed at t_end, and the lagged friction of every vertex within dhat of an obstacle
-  // with friction at x_n (normal impulse beta |b'(d)|). Without the barrier model
-  // (model.implicit.contact) it clears itself and every call below does nothing.
+  // with friction at x_n (normal impulse beta |b'(d)|). With the constraints model
+  // (model.implicit.contact) it takes only the cloth against itself, where the scene
+  // declares self_collision (obstacles are then the solve's constraints, and a mesh's
+  // corners and edges the collision stage's); otherwise it clears itself and every call
+  // below does nothing.
   void begin(const Model& model, const Vec3List& x_n, const Vec3List& x_end_base,
              double beta, double beta_end, double t, double t_end);
   bool enabled() const { return enabled_; }
+  bool takes_obstacles() const { return takes_obstacles_; }  // the barrier model
 
   double dhat() const { return dhat_; }
 
@@ -186,12 +190,12 @@ class BarrierContact {
   double largest_step(const Vec3List& v, const Eigen::VectorXd& dv);
 
   // Vertices within dhat of an obstacle at x_end(v), mesh feature pairs and self pairs
-  // within dhat, and the smallest gap, m.
-  int active(const Vec3List& v, double* smallest_gap = nullptr) const;
+  // within dhat, and the smallest gap, m; *pairs receives the pairs alone.
+  int active(const Vec3List& v, double* smallest_gap = nullptr, int* pairs = nullptr) const;
 
-  // The barrier energy of positions x at time t (s), J, vertices and pairs: what
-  // the barrier model adds to the total energy of a state (0 without the model). Pairs the
-  // barrier cannot hold (not apart) count nothing.
+  // The barrier energy of positions x at time t (s), J, of the vertices and pairs begin
+  // takes: what the barrier adds to the total energy of a state (0 when it takes nothing).
+  // Pairs the barrier cannot hold (not apart) count nothing.
   double energy_of(const Model& model, const Vec3List& x, double t);
 
  private:
@@ -220,6 +224,7 @@ class BarrierContact {
   void push_out(Vec3List& v, const Vec3List& v_base,
                 const std::function<const Vec3List&()>& forces, const Vec3List*& f) const;
   bool enabled_ = false;
+  bool takes_obstacles_ = false;
   const Model* model_ = nullptr;
   const Vec3List* x_start_ = nullptr;  // x_n, m
   const Vec3List* x_end_base_ = nullptr;

@@ -477,7 +477,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   // constraints.
   s.barrier.begin(model, state.x, s.x_end_base, eq.beta, eq.beta_end, eq.t, eq.t_end);
   for (const Obstacle& ob : model.obstacles) {
-    if (s.barrier.enabled()) break;
+    if (s.barrier.takes_obstacles()) break;
     s.placed.push_back(place_obstacle(ob, eq.t_end));
   }
   // The barrier's guess needs the forces at x_n where a vertex ends near an obstacle.
@@ -653,7 +653,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     }
   }
   report.final_residual = r;
-  report.contacts = s.contacts.size() + s.barrier.active(s.v);
+  report.contacts = s.contacts.size() + s.barrier.active(s.v, nullptr, &report.barrier_pairs);
 
   report.stuck_contacts = s.contacts.stuck();
   s.contacts.remember(s.v, release_impulses(model, eq, s), eq.beta);
@@ -674,6 +674,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   ws.newton_iterations = report.newton_iterations;
   ws.cg_iterations = report.cg_iterations;
   ws.factorizations = report.factorizations;
+  ws.barrier_pairs = report.barrier_pairs;
 }
 
 ImplicitSolver& solver_of(Workspace& ws) {
@@ -988,7 +989,7 @@ EnergyBalance energy_balance(const Model& model, const State& start, const State
                              double t, Workspace& ws, ContactWork contact_work) {
   ImplicitSolver& s = solver_of(ws);
   const bool moving = has_moving_obstacle(model, t, t + h);
-  const bool barrier = model.implicit.contact == ContactModel::Barrier &&
+  const bool barrier = (model.implicit.contact == ContactModel::Barrier || model.self_collision) &&
                        !(moving && contact_work == ContactWork::MidpointRule);
   EnergyBalance b;
   b.barrier = barrier ? s.barrier.energy_of(model, start.x, t) : 0.0;

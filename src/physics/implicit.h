@@ -3,8 +3,9 @@
 // straight into the step's matrix (SystemMatrix), preconditioned conjugate gradients
 // (sparse Cholesky or block Jacobi preconditioner, Model::implicit.linear_solver), contact
 // with obstacles as velocity constraints inside the solve (ContactSet) or, on request
-// (Model::implicit.contact), a barrier potential (BarrierContact), and a backtracking
-// line search on the incremental potential or the residual (Model::implicit.line_search).
+// (Model::implicit.contact), a barrier potential (BarrierContact, which also holds the
+// cloth apart from itself with either model), and a backtracking line search on the
+// incremental potential or the residual (Model::implicit.line_search).
 // Pinned vertices are constraints removed from the solve. Equations and choices:
 // docs/implicit.md.
 //
@@ -56,6 +57,8 @@ struct ImplicitReport {
   bool line_search_failed = false;  // some direction decreased the merit at no length
                                     // tried (it was then taken whole)
   int contacts = 0;                 // vertices in contact at the end of the step
+  int barrier_pairs = 0;            // of those, self pairs and mesh feature pairs within
+                                    // the barrier's dhat (counted once per pair)
   int stuck_contacts = 0;           // of those, held by friction
   int contact_changes = 0;          // Newton iterations after which the contacts changed
   int unresolved_contacts = 0;      // vertices left inside an obstacle (moved out by the

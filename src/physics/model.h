@@ -89,7 +89,8 @@ enum class LineSearch {
   Residual,   // the norm of the step equation's residual
 };
 
-// How the implicit solve keeps cloth out of sphere, cylinder and plane obstacles.
+// How the implicit solve keeps cloth out of sphere, cylinder, plane and mesh obstacles.
+// The cloth against itself (self_collision) is the barrier's with either model.
 enum class ContactModel {
   Constraints,  // velocity constraints filtered inside PCG, an active set (contact.h)
   Barrier,      // IPC's log barrier potential with its Hessian (barrier_contact.h)

@@ -34,6 +34,7 @@ std::optional<Divergence> Stepper::advance(bool keep_before) {
   totals_.contact_zones += ws_.contact.zones;
   totals_.contact_rigid_zones += ws_.contact.rigid_zones;
   totals_.contact_unresolved += ws_.contact.unresolved;
+  totals_.barrier_pairs += ws_.barrier_pairs;
   return divergence;
 }
 

@@ -20,6 +20,8 @@ struct StepTotals {
   double contact_seconds = 0.0;  // s, processor time
   long long contact_proximities = 0, contact_impacts = 0, contact_rebuilds = 0,
             contact_zones = 0, contact_rigid_zones = 0, contact_unresolved = 0;
+  // Self and mesh feature pairs the implicit solve's barrier held at the end of each step.
+  long long barrier_pairs = 0;
 };
 
 class Stepper {

@@ -21,6 +21,8 @@ struct Workspace {
   int factorizations = 0;  // of the Cholesky or scalar preconditioner
   int substeps = 0;
   int planned_substeps = 0;  // the substeps the last step was first tried with
+  int barrier_pairs = 0;  // self and mesh feature pairs the barrier held at the end of its
+                          // last solve (ImplicitReport::barrier_pairs)
   // The collision stage of the last step (cloth_contact.h) and its processor time, s.
   ContactStats contact;
   double contact_seconds = 0.0;

@@ -108,15 +108,16 @@ TEST(ClothContact, StackedSheetsRestAsTwoLayersSeparatedByTheThickness) {
   EXPECT_LT(fastest, 1e-3);  // at rest: no jitter between the layers
 }
 
-// The same stack with backward Euler at 1/60 s under the barrier: the barrier holds the
-// layers apart inside the solve (self_barrier.h), so no frame crosses and the collision
-// stage after the solve finds nothing to correct. Each layer rests above what carries it
-// at a gap the barrier holds: between the thickness and the thickness plus dhat.
-TEST(ClothContact, StackedSheetsRestAsTwoLayersWithTheBarrier) {
+// The same stack with backward Euler at 1/60 s: the self barrier holds the layers apart
+// inside the solve (self_barrier.h) with either contact model for the ground, so no frame
+// crosses and the collision stage after the solve finds nothing to correct. The upper
+// layer rests above the lower at a gap the barrier holds: between the thickness and the
+// thickness plus dhat. The lower rests on the ground where the ground's model holds it:
+// on it under the constraints, within dhat of it under the barrier.
+void expect_stack_rests_as_two_layers_implicit(ContactModel contact) {
   constexpr double kThickness = 0.005;  // m
   Vec3List x;
-  const Model m =
-      falling_stack(kThickness, Integrator::BackwardEuler, 1.0 / 60.0, ContactModel::Barrier, &x);
+  const Model m = falling_stack(kThickness, Integrator::BackwardEuler, 1.0 / 60.0, contact, &x);
   const double dhat = barrier_distance(m);
   State s;
   s.x = x;
@@ -129,11 +130,16 @@ TEST(ClothContact, StackedSheetsRestAsTwoLayersWithTheBarrier) {
     ASSERT_FALSE(crosses(m, s.x)) << "step " << k;
   }
   EXPECT_EQ(corrections, 0);
+  EXPECT_GT(ws.barrier_pairs, 0);  // the layers touch within dhat at the end
   const int half = static_cast<int>(x.size()) / 2;
   double lower_mean = 0, upper_mean = 0, upper_min = INFINITY;
   for (int i = 0; i < half; ++i) {
-    EXPECT_GT(s.x[i].z(), 0.0) << i;
-    EXPECT_LT(s.x[i].z(), dhat) << i;
+    if (contact == ContactModel::Barrier) {
+      EXPECT_GT(s.x[i].z(), 0.0) << i;
+      EXPECT_LT(s.x[i].z(), dhat) << i;
+    } else {
+      EXPECT_NEAR(s.x[i].z(), 0.0, 1e-6) << i;
+    }
     lower_mean += s.x[i].z() / half;
   }
   for (int i = half; i < static_cast<int>(x.size()); ++i) {
@@ -147,6 +153,14 @@ TEST(ClothContact, StackedSheetsRestAsTwoLayersWithTheBarrier) {
   double fastest = 0;
   for (const Vec3& v : s.v) fastest = std::max(fastest, v.norm());
   EXPECT_LT(fastest, 1e-3);  // at rest
+}
+
+TEST(ClothContact, StackedSheetsRestAsTwoLayersWithTheBarrier) {
+  expect_stack_rests_as_two_layers_implicit(ContactModel::Barrier);
+}
+
+TEST(ClothContact, StackedSheetsRestAsTwoLayersImplicitOnAConstrainedGround) {
+  expect_stack_rests_as_two_layers_implicit(ContactModel::Constraints);
 }
 
 // A small sheet 4 mm above a sheet held flat, thrown down onto it at 20 m/s, stepped by
@@ -202,22 +216,26 @@ TEST(ClothContact, FastLayerDoesNotPassThrough) {
   EXPECT_LT(b.x[t.first_upper].z(), -0.01);
 }
 
-// The same throw with backward Euler at 1/60 s under the barrier: a third of a metre per
-// step, yet the line search stops every pair short of its first touch, so the layer ends
-// above the held sheet with nothing left for the collision stage.
-TEST(ClothContact, FastLayerDoesNotPassThroughWithTheBarrier) {
+// The same throw with backward Euler at 1/60 s: a third of a metre per step, yet the
+// line search stops every pair short of its first touch, so the layer ends above the held
+// sheet with nothing left for the collision stage. The self barrier is in the solve with
+// either contact model (the scene has no obstacle).
+TEST(ClothContact, FastLayerDoesNotPassThroughImplicit) {
   constexpr double kThickness = 0.002;
-  ThrownLayer t = thrown_layer(kThickness, Integrator::BackwardEuler, 1.0 / 60.0);
-  t.model.implicit.contact = ContactModel::Barrier;
-  const Model& m = t.model;
-  State& s = t.state;
-  Workspace ws;
-  for (int k = 0; k < 3; ++k) {
-    ASSERT_FALSE(step(m, s, ws).has_value()) << k;
-    EXPECT_EQ(ws.contact.proximities + ws.contact.impacts, 0) << k;
-    EXPECT_FALSE(crosses(m, s.x)) << k;
-    for (int i = t.first_upper; i < m.num_vertices(); ++i) {
-      ASSERT_GT(s.x[i].z(), kThickness) << "step " << k << " vertex " << i;
+  for (const ContactModel contact : {ContactModel::Barrier, ContactModel::Constraints}) {
+    SCOPED_TRACE(contact == ContactModel::Barrier ? "barrier" : "constraints");
+    ThrownLayer t = thrown_layer(kThickness, Integrator::BackwardEuler, 1.0 / 60.0);
+    t.model.implicit.contact = contact;
+    const Model& m = t.model;
+    State& s = t.state;
+    Workspace ws;
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_FALSE(step(m, s, ws).has_value()) << k;
+      EXPECT_EQ(ws.contact.proximities + ws.contact.impacts, 0) << k;
+      EXPECT_FALSE(crosses(m, s.x)) << k;
+      for (int i = t.first_upper; i < m.num_vertices(); ++i) {
+        ASSERT_GT(s.x[i].z(), kThickness) << "step " << k << " vertex " << i;
+      }
     }
   }
 }
