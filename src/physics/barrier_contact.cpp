@@ -293,6 +293,7 @@ void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
   // first touching obstacle's motion where x_n is near it (a still obstacle, or the cloth
   // itself: x_n).
   const Vec3List& x_n = *x_start_;
+  bool paths_found = false;  // self_ holds the pairs of the paths from x_n to the guess
   for (int round = 0;; ++round) {
     const Vec3List& x_end = end_positions(v);
     features_.find_pairs(x_n, x_end, dhat_, /*from_start=*/true);
@@ -304,7 +305,8 @@ void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
       touch = self_touch;
       mesh = -1;
     }
-    if (touch >= 1.0) break;
+    paths_found = touch >= 1.0;
+    if (paths_found) break;
     const double keep = kBarrierStepFraction * touch;
     for (int i = 0; i < model_->num_vertices(); ++i) {
       if (model_->pinned[i]) continue;
@@ -319,15 +321,17 @@ void BarrierContact::make_feasible(Vec3List& v, const Vec3List& v_base,
     push_out(v, v_base, forces, f);
     if (round + 1 == kFeasibleRounds) break;
   }
-  hold_touching_pairs(v);
-  // The pairs about the guess, for the solve's first evaluations.
+  paths_found = hold_touching_pairs(v, paths_found);
+  // The pairs about the guess, for the solve's first evaluations. Self pairs found on the
+  // paths to it hold every pair within dhat there unless some were left out (not apart at
+  // x_n): a pair's gap falls on its path by no more than its closing bound.
   const Vec3List& x_end = end_positions(v);
   features_.find_pairs(x_end, x_end, dhat_);
-  self_.find_pairs(x_end, x_end, dhat_);
+  if (!paths_found || self_.left_out() > 0) self_.find_pairs(x_end, x_end, dhat_);
 }
 
-void BarrierContact::hold_touching_pairs(Vec3List& v) {
-  if (!self_.active()) return;
+bool BarrierContact::hold_touching_pairs(Vec3List& v, bool paths_found) {
+  if (!self_.active()) return paths_found;
   const Vec3List& x_n = *x_start_;
   const auto clear = [&](const Vec3& x) {
     for (const PlacedObstacle& o : placed_) {
@@ -337,7 +341,7 @@ void BarrierContact::hold_touching_pairs(Vec3List& v) {
   };
   for (int round = 0; round < kHoldRounds; ++round) {
     const Vec3List& x_end = end_positions(v);
-    self_.find_pairs(x_n, x_end, dhat_);
+    if (round > 0 || !paths_found) self_.find_pairs(x_n, x_end, dhat_);
     bool held = false;
     for (const std::array<int, 4>& pair : self_.touching_pairs(x_n, x_end)) {
       for (const int i : pair) {
@@ -347,8 +351,9 @@ void BarrierContact::hold_touching_pairs(Vec3List& v) {
         v[i] = stay;
       }
     }
-    if (!held) return;
+    if (!held) return true;
   }
+  return false;
 }
 
 void BarrierContact::freeze_damping(const Vec3List& v, const Vec3List& v_n) {

@@ -217,8 +217,9 @@ class BarrierContact {
   // After make_feasible's last push out: the vertices of self pairs whose paths from x_n
   // to the guess still touch are held at x_n (where those pairs are apart), where every
   // obstacle is clear of them, so that the solve keeps those pairs instead of leaving them
-  // out of the step.
-  void hold_touching_pairs(Vec3List& v);
+  // out of the step. paths_found: self_ already holds the pairs of those paths. Returns
+  // whether self_ holds the pairs of the paths to the guess it leaves.
+  bool hold_touching_pairs(Vec3List& v, bool paths_found);
   // Pushes the end position of each free vertex closer than dhat / 2 out (make_feasible);
   // f: the forces at x_n once taken.
   void push_out(Vec3List& v, const Vec3List& v_base,

@@ -15,6 +15,9 @@ namespace {
 constexpr double kTouchFraction = 0.1;
 constexpr int kMaxAdvances = 100;
 constexpr int kLeafSize = 4;
+// The trees are rebuilt every this many calls of find_pairs and refitted in between (a
+// build costs several refits; a refitted tree's boxes overlap more as the cloth folds).
+constexpr int kCallsPerBuild = 32;
 
 Box3 grown(Box3 box, double margin) {
   box.min().array() -= margin;
@@ -27,7 +30,6 @@ Box3 grown(Box3 box, double margin) {
 void SelfBarrier::begin(const Model& model) {
   pairs_.clear();
   left_out_ = 0;
-  built_ = false;
   model_ = nullptr;
   if (!model.self_collision) return;
   model_ = &model;
@@ -102,8 +104,10 @@ void SelfBarrier::find_pairs(const Vec3List& from, const Vec3List& to, double dh
     }
     return box;
   };
+  const bool rebuild = calls_since_build_ == 0;
+  calls_since_build_ = (calls_since_build_ + 1) % kCallsPerBuild;
   const auto refit = [&](Bvh& tree) {
-    if (built_ && tree.num_primitives() == static_cast<int>(boxes_.size())) {
+    if (!rebuild && tree.num_primitives() == static_cast<int>(boxes_.size())) {
       tree.refit(boxes_);
     } else {
       tree.build(boxes_, kLeafSize);
@@ -146,7 +150,6 @@ void SelfBarrier::find_pairs(const Vec3List& from, const Vec3List& to, double dh
     boxes_[e] = grown(path_box(edges_[e].data(), 2), 0.5 * reach);
   }
   refit(edge_tree_);
-  built_ = true;
   edge_tree_.for_each_self_overlap([&](int e, int f) {
     const auto &a = edges_[std::min(e, f)], &b = edges_[std::max(e, f)];
     if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1]) return;

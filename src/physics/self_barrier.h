@@ -85,7 +85,7 @@ class SelfBarrier {
   std::vector<std::array<int, 2>> edges_;  // the cloth's edges, vertex ids
   uint64_t edges_mesh_ = 0;                // the model mesh_id they are of
   Bvh triangle_tree_, edge_tree_;
-  bool built_ = false;  // the trees are built for this step (then refitted)
+  int calls_since_build_ = 0;  // of find_pairs, modulo kCallsPerBuild
   std::vector<Box3> boxes_;
   std::vector<Pair> pairs_;
   int left_out_ = 0;
