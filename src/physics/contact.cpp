@@ -10,10 +10,38 @@ namespace tissu {
 void ContactSet::clear(int num_vertices) {
   contacts_.clear();
   of_vertex_.assign(num_vertices, -1);
-  if (memory_.size() != static_cast<size_t>(num_vertices)) memory_.assign(num_vertices, Memory{});
+  second_of_vertex_.assign(num_vertices, -1);
+  if (memory_.size() != static_cast<size_t>(num_vertices)) {
+    memory_.assign(num_vertices, Memory{});
+    second_memory_.assign(num_vertices, Memory{});
+  }
 }
 
 namespace {
+
+// The coefficients (a, b) of along_two_normals.
+Eigen::Vector2d two_normal_coefficients(const Vec3& n_a, const Vec3& n_b, double r_a,
+                                        double r_b) {
+  const double c = n_a.dot(n_b);
+  const double det = 1.0 - c * c;  // > 0: the normals are more than kCornerCosine apart
+  return {(r_a - c * r_b) / det, (r_b - c * r_a) / det};
+}
+
+}  // namespace
+
+Vec3 along_two_normals(const Vec3& n_a, const Vec3& n_b, double r_a, double r_b) {
+  const Eigen::Vector2d k = two_normal_coefficients(n_a, n_b, r_a, r_b);
+  return k[0] * n_a + k[1] * n_b;
+}
+
+namespace {
+
+// The speed (m/s) at which a vertex caught at velocity v approaches c's surface, gravity's
+// push into it over beta (s) included.
+double approach_speed(const VertexContact& c, const Vec3& v, const Vec3& gravity, double beta) {
+  return std::max(0.0, -c.normal.dot(v - c.surface_velocity)) +
+         beta * std::max(0.0, -c.normal.dot(gravity));
+}
 
 // Coulomb's law at a new contact, from the vertex's velocity v when it was caught: the
 // impulse that stops its approach (and gravity's push into the surface over beta) against
@@ -24,8 +52,7 @@ namespace {
 void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& gravity,
                   double beta) {
   const Vec3 relative = v - c.surface_velocity;
-  const double approach = std::max(0.0, -c.normal.dot(relative)) +
-                          beta * std::max(0.0, -c.normal.dot(gravity));  // m/s
+  const double approach = approach_speed(c, v, gravity, beta);  // m/s
   Vec3 sliding = relative + beta * gravity;
   sliding -= c.normal.dot(sliding) * c.normal;  // m/s
   const double speed = sliding.norm();
@@ -89,52 +116,100 @@ Mat3 SlidingFriction::jacobian(const Vec3& v) const {
   return limit * block;
 }
 
+void ContactSet::add_contact(const Model& model, const PlacedObstacle& placed, int o, int i,
+                             const SurfacePoint& p, const Vec3List& x_end, const Memory& last,
+                             const Vec3List* velocities, double beta) {
+  const Obstacle& ob = *placed.obstacle;
+  VertexContact c;
+  c.vertex = i;
+  c.obstacle = o;
+  c.normal = p.normal;
+  // The tangent plane at the closest surface point, moved out by the thickness.
+  c.offset = c.normal.dot(x_end[i]) - p.distance + ob.thickness;
+  c.surface_velocity = p.velocity;
+  c.friction = ob.friction;
+  if (ob.friction == 0.0) {
+    c.mode = ContactMode::Slide;
+  } else if (last.in_contact) {
+    c.mode = last.mode;
+    c.friction_limit = last.friction_force * beta;
+  } else if (velocities) {
+    predict_mode(c, (*velocities)[i], model.mass[i],
+                 model.gravity ? *model.gravity : Vec3::Zero(), beta);
+  } else {
+    c.mode = ContactMode::Stick;
+  }
+  contacts_.push_back(c);
+}
+
 int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& placed,
                        const Vec3List& x_end, double margin, double remembered_margin,
                        const Vec3List* velocities, double beta) {
   const Vec3 gravity = model.gravity ? *model.gravity : Vec3::Zero();
+  // How close a vertex is caught: a vertex released at the end of the last step only once
+  // it is inside.
+  const auto catch_gap = [&](const Memory& last) {
+    return last.released ? std::min(margin, 0.0)
+           : last.in_contact ? std::max(margin, remembered_margin)
+                             : margin;
+  };
   int added = 0;
   for (int i = 0; i < model.num_vertices(); ++i) {
-    if (model.pinned[i] || of_vertex_[i] >= 0) continue;
+    if (model.pinned[i] || second_of_vertex_[i] >= 0) continue;
+    if (of_vertex_[i] < 0) {
+      int best = -1;
+      double best_gap = catch_gap(memory_[i]);
+      SurfacePoint best_point;
+      for (size_t o = 0; o < placed.size(); ++o) {
+        const SurfacePoint p = placed[o].closest(x_end[i]);
+        const double gap = p.distance - placed[o].obstacle->thickness;
+        if (gap < best_gap) {
+          best_gap = gap;
+          best = static_cast<int>(o);
+          best_point = p;
+        }
+      }
+      if (best < 0) continue;
+      of_vertex_[i] = static_cast<int>(contacts_.size());
+      add_contact(model, placed[best], best, i, best_point, x_end, memory_[i], velocities, beta);
+      ++added;
+    }
+    if (placed.size() < 2) continue;
+    // A second obstacle this close, on another side: the vertex is in a corner.
+    const int first = of_vertex_[i];
+    const Memory& remembered = second_memory_[i];
     int best = -1;
-    // A vertex released at the end of the last step is caught only once it is inside.
-    double best_gap = memory_[i].released    ? std::min(margin, 0.0)
-                      : memory_[i].in_contact ? std::max(margin, remembered_margin)
-                                              : margin;
+    double best_gap = INFINITY;
     SurfacePoint best_point;
     for (size_t o = 0; o < placed.size(); ++o) {
-      const SurfacePoint s = placed[o].closest(x_end[i]);
-      const double gap = s.distance - placed[o].obstacle->thickness;
-      if (gap < best_gap) {
-        best_gap = gap;
-        best = static_cast<int>(o);
-        best_point = s;
-      }
+      const int ob = static_cast<int>(o);
+      if (ob == contacts_[first].obstacle) continue;
+      const SurfacePoint p = placed[o].closest(x_end[i]);
+      const double gap = p.distance - placed[o].obstacle->thickness;
+      const double limit = catch_gap(remembered.obstacle == ob ? remembered : Memory{});
+      if (gap >= limit || gap >= best_gap) continue;
+      if (std::abs(p.normal.dot(contacts_[first].normal)) >= kCornerCosine) continue;
+      best_gap = gap;
+      best = ob;
+      best_point = p;
     }
     if (best < 0) continue;
-    const Obstacle& ob = *placed[best].obstacle;
-    VertexContact c;
-    c.vertex = i;
-    c.obstacle = best;
-    c.normal = best_point.normal;
-    // The tangent plane at the closest surface point, moved out by the thickness.
-    c.offset = c.normal.dot(x_end[i]) - best_point.distance + ob.thickness;
-    c.surface_velocity = best_point.velocity;
-    c.friction = ob.friction;
-    const Memory& last = memory_[i];
-    if (ob.friction == 0.0) {
-      c.mode = ContactMode::Slide;
-    } else if (last.in_contact) {
-      c.mode = last.mode;
-      c.friction_limit = last.friction_force * beta;
-    } else if (velocities) {
-      predict_mode(c, (*velocities)[i], model.mass[i], gravity, beta);
-    } else {
-      c.mode = ContactMode::Stick;
-    }
-    of_vertex_[i] = static_cast<int>(contacts_.size());
-    contacts_.push_back(c);
+    second_of_vertex_[i] = static_cast<int>(contacts_.size());
+    add_contact(model, placed[best], best, i, best_point, x_end,
+                remembered.obstacle == best ? remembered : Memory{}, velocities, beta);
     ++added;
+    // Both slide: a stick of one would hold the vertex against the other's motion. A
+    // sticking one takes the friction of the impulse it needed, or of its approach.
+    for (const int k : {first, second_of_vertex_[i]}) {
+      VertexContact& c = contacts_[k];
+      if (c.mode != ContactMode::Stick) continue;
+      c.mode = ContactMode::Slide;
+      const double impulse =
+          std::max(c.normal_impulse,
+                   velocities ? model.mass[i] * approach_speed(c, (*velocities)[i], gravity, beta)
+                              : 0.0);  // kg*m/s
+      c.friction_limit = c.friction * impulse;
+    }
   }
   return added;
 }
@@ -146,9 +221,16 @@ void ContactSet::set_targets(const Vec3List& x_end_base, double beta_end) {
 }
 
 void ContactSet::project(Vec3List& v) const {
-  for (const VertexContact& c : contacts_) {
+  for (size_t k = 0; k < contacts_.size(); ++k) {
+    const VertexContact& c = contacts_[k];
+    const int second = second_of_vertex_[c.vertex];
+    if (second == static_cast<int>(k)) continue;  // with the first
     Vec3& vi = v[c.vertex];
-    if (c.mode == ContactMode::Stick) {
+    if (second >= 0) {  // both slide
+      const VertexContact& b = contacts_[second];
+      vi += along_two_normals(c.normal, b.normal, c.target - c.normal.dot(vi),
+                              b.target - b.normal.dot(vi));
+    } else if (c.mode == ContactMode::Stick) {
       vi = c.surface_velocity + (c.target - c.normal.dot(c.surface_velocity)) * c.normal;
     } else {
       vi += (c.target - c.normal.dot(vi)) * c.normal;
@@ -157,9 +239,15 @@ void ContactSet::project(Vec3List& v) const {
 }
 
 void ContactSet::filter(Eigen::VectorXd& y) const {
-  for (const VertexContact& c : contacts_) {
+  for (size_t k = 0; k < contacts_.size(); ++k) {
+    const VertexContact& c = contacts_[k];
+    const int second = second_of_vertex_[c.vertex];
+    if (second == static_cast<int>(k)) continue;  // with the first
     auto yi = y.segment<3>(3 * c.vertex);
-    if (c.mode == ContactMode::Stick) {
+    if (second >= 0) {
+      const Vec3 n = contacts_[second].normal;
+      yi -= along_two_normals(c.normal, n, c.normal.dot(Vec3(yi)), n.dot(Vec3(yi)));
+    } else if (c.mode == ContactMode::Stick) {
       yi.setZero();
     } else {
       yi -= c.normal.dot(Vec3(yi)) * c.normal;
@@ -188,10 +276,20 @@ void ContactSet::add_friction_jacobian(const Vec3List& v, SystemMatrix& system) 
 }
 
 void ContactSet::update(const Eigen::VectorXd& reaction) {
-  for (VertexContact& c : contacts_) {
+  for (size_t k = 0; k < contacts_.size(); ++k) {
+    VertexContact& c = contacts_[k];
     const Vec3 impulse = reaction.segment<3>(3 * c.vertex);
-    c.pull = std::max(0.0, -c.normal.dot(impulse));
-    c.normal_impulse = std::max(0.0, c.normal.dot(impulse));
+    double along = c.normal.dot(impulse);  // kg*m/s
+    const int first = of_vertex_[c.vertex], second = second_of_vertex_[c.vertex];
+    if (second >= 0) {  // the reaction split between the corner's two normals
+      const Vec3& n_first = contacts_[first].normal;
+      const Vec3& n_second = contacts_[second].normal;
+      const Eigen::Vector2d split = two_normal_coefficients(
+          n_first, n_second, n_first.dot(impulse), n_second.dot(impulse));
+      along = split[static_cast<int>(k) == first ? 0 : 1];
+    }
+    c.pull = std::max(0.0, -along);
+    c.normal_impulse = std::max(0.0, along);
     if (c.mode == ContactMode::Stick) {
       c.tangential_impulse = impulse - c.normal.dot(impulse) * c.normal;
     }
@@ -213,12 +311,20 @@ int ContactSet::switch_modes() {
 }
 
 void ContactSet::remember(const Vec3List& v, const std::vector<double>& release, double beta) {
-  std::vector<double>& last_speed = last_sliding_speed_;  // m/s, per vertex
-  last_speed.resize(memory_.size());
-  for (size_t i = 0; i < memory_.size(); ++i) last_speed[i] = memory_[i].sliding_speed;
+  std::vector<double>& last_speed = last_sliding_speed_;  // m/s, per vertex and contact
+  const size_t n = memory_.size();
+  last_speed.resize(2 * n);
+  for (size_t i = 0; i < n; ++i) {
+    last_speed[i] = memory_[i].sliding_speed;
+    last_speed[n + i] = second_memory_[i].sliding_speed;
+  }
   for (Memory& m : memory_) m = Memory{};
-  for (const VertexContact& c : contacts_) {
-    Memory& m = memory_[c.vertex];
+  for (Memory& m : second_memory_) m = Memory{};
+  for (size_t k = 0; k < contacts_.size(); ++k) {
+    const VertexContact& c = contacts_[k];
+    const bool second = second_of_vertex_[c.vertex] == static_cast<int>(k);
+    Memory& m = second ? second_memory_[c.vertex] : memory_[c.vertex];
+    if (second) m.obstacle = c.obstacle;
     if (c.pull > release[c.vertex]) {
       m.released = true;
       continue;
@@ -232,7 +338,7 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release,
     // with friction above tan(a)). A margin of a hundredth of that speed per step keeps
     // rounding from reading as a gain.
     const double speed = c.friction == 0.0 ? INFINITY : friction_of(c).sliding(v[c.vertex]).norm();
-    const bool gaining = speed > last_speed[c.vertex] + 0.01 * kSlidingSpeed;
+    const bool gaining = speed > last_speed[(second ? n : 0) + c.vertex] + 0.01 * kSlidingSpeed;
     if (speed >= kSlidingSpeed || gaining || c.switched) {
       m.mode = ContactMode::Slide;
       m.friction_force = c.friction * c.normal_impulse / beta;

@@ -28,6 +28,12 @@
 // using less than half of mu J_n (slower than 0.29 eps) sticks in the next. A new contact on an obstacle with friction starts
 // in the mode Coulomb's law predicts from the velocity it was caught with (sticking when no
 // velocity is given).
+//
+// A vertex in a corner of two obstacles (a floor and a wall) holds a contact on each, both
+// sliding, kept together: its velocity is constrained along both normals (which must be
+// more than kCornerAngle apart), and the reaction is split between them. With one contact,
+// the second obstacle met the vertex only after the solve, and the collision stage's
+// corrections of it gained energy.
 #pragma once
 
 #include <Eigen/Core>
@@ -46,6 +52,9 @@ enum class ContactMode : uint8_t { Stick, Slide };
 
 // Sliding speed below which the friction of a sliding contact falls smoothly to zero, m/s.
 constexpr double kSlidingSpeed = 1e-3;
+// A vertex takes a second contact only where the two normals' cosine is below this (about
+// 8 degrees apart): nearly parallel constraints are nearly one.
+constexpr double kCornerCosine = 0.99;
 
 // Smoothed Coulomb friction of one sliding contact (IPC's lagged friction, Li et al. 2020):
 // F(v) = -limit f1(|u|) u / |u| on the sliding velocity u (v relative to the surface,
@@ -80,6 +89,10 @@ struct VertexContact {
 // The sliding friction of contact c: its normal, surface velocity and friction limit.
 SlidingFriction friction_of(const VertexContact& c);
 
+// The vector a n_a + b n_b whose components along the unit normals n_a and n_b (not
+// parallel) are r_a and r_b: the change that meets both rows of a vertex's two contacts.
+Vec3 along_two_normals(const Vec3& n_a, const Vec3& n_b, double r_a, double r_b);
+
 // The contacts of one step.
 class ContactSet {
  public:
@@ -88,13 +101,17 @@ class ContactSet {
   int size() const { return static_cast<int>(contacts_.size()); }
   const std::vector<VertexContact>& contacts() const { return contacts_; }
   int contact_of(int vertex) const { return of_vertex_[vertex]; }
+  // A vertex's second contact, in a corner of two obstacles, or -1.
+  int second_contact_of(int vertex) const { return second_of_vertex_[vertex]; }
 
   // Adds a contact for each free vertex without one whose end position x_end lies closer
   // to an obstacle than its thickness plus `margin` (m), at the obstacle's closest point;
   // for a vertex in contact at the end of the last step, plus the larger of `margin` and
   // `remembered_margin` (m); for one released then, only once inside. A new contact with
   // friction starts sticking, or, given the velocities (m/s) and the step's beta (s), in
-  // the mode Coulomb's law predicts from them. Returns how many were added.
+  // the mode Coulomb's law predicts from them. Then, by the same rules, a second contact
+  // on another obstacle for each vertex with one (both then slide, the friction of a
+  // sticking one from the impulse its approach needed). Returns how many were added.
   int detect(const Model& model, const std::vector<PlacedObstacle>& placed,
              const Vec3List& x_end, double margin, double remembered_margin = 0.0,
              const Vec3List* velocities = nullptr, double beta = 0.0);
@@ -139,7 +156,8 @@ class ContactSet {
 
  private:
   std::vector<VertexContact> contacts_;
-  std::vector<int> of_vertex_;  // (V) index into contacts_, or -1
+  std::vector<int> of_vertex_;         // (V) index into contacts_, or -1
+  std::vector<int> second_of_vertex_;  // (V) the second contact's index, or -1
   // (V) what each vertex's contact will do if it is in contact at the next step.
   struct Memory {
     bool in_contact = false;
@@ -147,8 +165,15 @@ class ContactSet {
     ContactMode mode = ContactMode::Stick;
     double friction_force = 0.0;  // mu J_n / beta while sliding, N
     double sliding_speed = INFINITY;  // m/s at the end of the step, while sliding
+    int obstacle = -1;                // the second contact's obstacle
   };
   std::vector<Memory> memory_;
+  std::vector<Memory> second_memory_;  // (V) of the second contacts, for their obstacle
+  // Adds the contact of vertex i on obstacle o (placed) at its closest point p, in the mode
+  // its memory `last` or Coulomb's law gives.
+  void add_contact(const Model& model, const PlacedObstacle& placed, int o, int i,
+                   const SurfacePoint& p, const Vec3List& x_end, const Memory& last,
+                   const Vec3List* velocities, double beta);
   std::vector<double> last_sliding_speed_;  // remember's scratch
 };
 

@@ -747,16 +747,37 @@ void stop_by_friction(const Model& model, const ImplicitSolver& s, const VertexC
 void stop_held_contacts(const Model& model, const ImplicitSolver& s, State& state,
                         bool friction_stops, Vec3List* history_x, Vec3List* history_v,
                         double h) {
-  for (const VertexContact& c : s.contacts.contacts()) {
-    if (c.pull > s.release[c.vertex]) continue;
+  const std::vector<VertexContact>& contacts = s.contacts.contacts();
+  for (size_t k = 0; k < contacts.size(); ++k) {
+    const VertexContact& c = contacts[k];
     const int i = c.vertex;
+    if (c.pull > s.release[i]) continue;
+    // A corner's other contact, if it held too: both are met together, with the first.
+    const int first = s.contacts.contact_of(i), second = s.contacts.second_contact_of(i);
+    const VertexContact* other =
+        second < 0 ? nullptr : &contacts[static_cast<int>(k) == first ? second : first];
+    if (other && other->pull > s.release[i]) other = nullptr;
+    if (other && static_cast<int>(k) == second) continue;
     Vec3& v = state.v[i];
-    v -= c.normal.dot(v - c.surface_velocity) * c.normal;
-    if (friction_stops && c.friction > 0.0) stop_by_friction(model, s, c, v);
+    if (other) {
+      v -= along_two_normals(c.normal, other->normal, c.normal.dot(v - c.surface_velocity),
+                             other->normal.dot(v - other->surface_velocity));
+    } else {
+      v -= c.normal.dot(v - c.surface_velocity) * c.normal;
+    }
+    if (friction_stops && c.friction > 0.0 && !other) stop_by_friction(model, s, c, v);
     if (!history_x) continue;
     const Vec3 x_before = state.x[i] - h * v;
-    (*history_x)[i] += c.normal.dot(x_before - (*history_x)[i]) * c.normal;
-    (*history_v)[i] += c.normal.dot(v - (*history_v)[i]) * c.normal;
+    const Vec3 moved = x_before - (*history_x)[i], turned = v - (*history_v)[i];
+    if (other) {
+      (*history_x)[i] += along_two_normals(c.normal, other->normal, c.normal.dot(moved),
+                                           other->normal.dot(moved));
+      (*history_v)[i] += along_two_normals(c.normal, other->normal, c.normal.dot(turned),
+                                           other->normal.dot(turned));
+    } else {
+      (*history_x)[i] += c.normal.dot(moved) * c.normal;
+      (*history_v)[i] += c.normal.dot(turned) * c.normal;
+    }
   }
 }
 
