@@ -255,6 +255,31 @@ void ContactSet::filter(Eigen::VectorXd& y) const {
   }
 }
 
+void ContactSet::stop_approach(Vec3List& v) const {
+  for (size_t k = 0; k < contacts_.size(); ++k) {
+    const VertexContact& c = contacts_[k];
+    const int second = second_of_vertex_[c.vertex];
+    if (second == static_cast<int>(k)) continue;  // with the first
+    Vec3& vi = v[c.vertex];
+    const double along = c.normal.dot(vi - c.surface_velocity);  // m/s
+    if (second < 0) {
+      if (along < 0.0) vi -= along * c.normal;
+      continue;
+    }
+    // Both together: removing one approach alone can approach the other surface.
+    const VertexContact& b = contacts_[second];
+    const double along_b = b.normal.dot(vi - b.surface_velocity);  // m/s
+    if (along >= 0.0 && along_b >= 0.0) continue;
+    const Vec3 single = along < 0.0 ? Vec3(vi - along * c.normal) : Vec3(vi - along_b * b.normal);
+    if (c.normal.dot(single - c.surface_velocity) >= 0.0 &&
+        b.normal.dot(single - b.surface_velocity) >= 0.0) {
+      vi = single;
+    } else {
+      vi -= along_two_normals(c.normal, b.normal, along, along_b);
+    }
+  }
+}
+
 void ContactSet::add_friction(const Vec3List& v, Eigen::VectorXd& rhs) const {
   for (const VertexContact& c : contacts_) {
     if (has_sliding_friction(c)) rhs.segment<3>(3 * c.vertex) += friction_of(c).impulse(v[c.vertex]);

@@ -126,6 +126,11 @@ class ContactSet {
   // Zeroes the constrained components of y (3V), the filter S of the solve.
   void filter(Eigen::VectorXd& y) const;
 
+  // Removes from each contact's vertex velocity (m/s) its approach to the contact's surface
+  // (the normal part of the velocity relative to the surface, where negative); a vertex
+  // in a corner ends approaching neither surface.
+  void stop_approach(Vec3List& v) const;
+
   // Adds the sliding contacts' friction impulses F(v) to rhs (3V), kg*m/s.
   void add_friction(const Vec3List& v, Eigen::VectorXd& rhs) const;
 

@@ -848,11 +848,7 @@ void midpoint_solve(const Model& model, State& state, Workspace& ws, double h, d
     state.x[i] += h * s.v[i];
     state.v[i] = 2.0 * s.v[i] - state.v[i];
   }
-  for (const VertexContact& c : s.contacts.contacts()) {
-    Vec3& v = state.v[c.vertex];
-    const double approach = c.normal.dot(v - c.surface_velocity);
-    if (approach < 0.0) v -= approach * c.normal;
-  }
+  s.contacts.stop_approach(state.v);
   stop_held_contacts(model, s, state, /*friction_stops=*/true, nullptr, nullptr, h);
   end_step(state, s, h, t);
 }

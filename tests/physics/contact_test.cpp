@@ -574,6 +574,37 @@ TEST(Contact, VertexInACornerHoldsOneContactOnEachSide) {
   EXPECT_NEAR(contacts.contacts()[b].pull, 3.0, 1e-12);
 }
 
+// A vertex at the bottom of a V-shaped groove (normals 140 degrees apart) falling at
+// 1 m/s: removing its approach to one side alone would leave it approaching the other
+// (0.46 m/s into it); stop_approach, which the midpoint rule applies at the end of its
+// step, leaves it approaching neither.
+TEST(Contact, VertexInAGrooveStopsApproachingBothSides) {
+  Sheet s = cotton_sheet(0.1, 2, Integrator::ImplicitMidpoint, 1.0 / 60.0);
+  Model& m = s.model;
+  const Vec3 left = Vec3(0.0, -0.94, 0.34).normalized(), right = Vec3(0.0, 0.94, 0.34).normalized();
+  m.obstacles = {plane(Vec3::Zero(), left, 0.0, 0.0), plane(Vec3::Zero(), right, 0.0, 0.0)};
+  std::vector<PlacedObstacle> placed;
+  for (const Obstacle& ob : m.obstacles) placed.push_back(place_obstacle(ob, 0.0));
+  Vec3List x_end = s.state.x;
+  for (Vec3& p : x_end) p.z() = 1.0;  // clear of both
+  x_end[0] = Vec3(0.0, 0.0, -1e-4);   // inside both
+  ContactSet contacts;
+  contacts.clear(m.num_vertices());
+  contacts.detect(m, placed, x_end, 1e-6);
+  ASSERT_GE(contacts.second_contact_of(0), 0);
+  Vec3List v(m.num_vertices(), Vec3::Zero());
+  v[0] = Vec3(0.0, 0.0, -1.0);  // m/s
+  contacts.stop_approach(v);
+  EXPECT_GE(left.dot(v[0]), -1e-12);
+  EXPECT_GE(right.dot(v[0]), -1e-12);
+  EXPECT_NEAR(v[0].norm(), 0.0, 1e-12);  // the groove's edge runs along x
+  // A vertex leaving one side and approaching the other keeps the leaving part.
+  v[0] = Vec3(0.0, 0.5, 0.0);
+  contacts.stop_approach(v);
+  EXPECT_NEAR(left.dot(v[0]), 0.0, 1e-12);
+  EXPECT_GE(right.dot(v[0]), 0.0);
+}
+
 // A flat 0.4 m cotton sheet lying on a floor with friction 0.8, pushed along it by a wall
 // moving at 0.3 m/s, with backward Euler at 1/60 s: the wall moves the sheet without
 // squeezing it, and no vertex ends inside either plane. With one contact a vertex, the
