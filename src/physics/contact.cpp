@@ -153,22 +153,32 @@ int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& pl
            : last.in_contact ? std::max(margin, remembered_margin)
                              : margin;
   };
+  static const Memory kNone;
   int added = 0;
   for (int i = 0; i < model.num_vertices(); ++i) {
     if (model.pinned[i] || second_of_vertex_[i] >= 0) continue;
-    if (of_vertex_[i] < 0) {
+    // The obstacle closest within its catch gap (limit(o), m), other than `except` and,
+    // given a normal, more than kCornerCosine from it; at equal gaps the first listed.
+    SurfacePoint best_point;
+    const auto closest = [&](int except, const Vec3* normal, auto limit) {
       int best = -1;
-      double best_gap = catch_gap(memory_[i]);
-      SurfacePoint best_point;
+      double best_gap = INFINITY;
       for (size_t o = 0; o < placed.size(); ++o) {
+        const int ob = static_cast<int>(o);
+        if (ob == except) continue;
         const SurfacePoint p = placed[o].closest(x_end[i]);
         const double gap = p.distance - placed[o].obstacle->thickness;
-        if (gap < best_gap) {
-          best_gap = gap;
-          best = static_cast<int>(o);
-          best_point = p;
-        }
+        if (gap >= limit(ob) || gap >= best_gap) continue;
+        if (normal && std::abs(p.normal.dot(*normal)) >= kCornerCosine) continue;
+        best_gap = gap;
+        best = ob;
+        best_point = p;
       }
+      return best;
+    };
+    if (of_vertex_[i] < 0) {
+      const double limit = catch_gap(memory_[i]);
+      const int best = closest(-1, nullptr, [&](int) { return limit; });
       if (best < 0) continue;
       of_vertex_[i] = static_cast<int>(contacts_.size());
       add_contact(model, placed[best], best, i, best_point, x_end, memory_[i], velocities, beta);
@@ -177,26 +187,16 @@ int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& pl
     if (placed.size() < 2) continue;
     // A second obstacle this close, on another side: the vertex is in a corner.
     const int first = of_vertex_[i];
-    const Memory& remembered = second_memory_[i];
-    int best = -1;
-    double best_gap = INFINITY;
-    SurfacePoint best_point;
-    for (size_t o = 0; o < placed.size(); ++o) {
-      const int ob = static_cast<int>(o);
-      if (ob == contacts_[first].obstacle) continue;
-      const SurfacePoint p = placed[o].closest(x_end[i]);
-      const double gap = p.distance - placed[o].obstacle->thickness;
-      const double limit = catch_gap(remembered.obstacle == ob ? remembered : Memory{});
-      if (gap >= limit || gap >= best_gap) continue;
-      if (std::abs(p.normal.dot(contacts_[first].normal)) >= kCornerCosine) continue;
-      best_gap = gap;
-      best = ob;
-      best_point = p;
-    }
+    const Vec3 first_normal = contacts_[first].normal;
+    const auto remembered = [&](int o) -> const Memory& {
+      return second_memory_[i].obstacle == o ? second_memory_[i] : kNone;
+    };
+    const int best = closest(contacts_[first].obstacle, &first_normal,
+                             [&](int o) { return catch_gap(remembered(o)); });
     if (best < 0) continue;
     second_of_vertex_[i] = static_cast<int>(contacts_.size());
-    add_contact(model, placed[best], best, i, best_point, x_end,
-                remembered.obstacle == best ? remembered : Memory{}, velocities, beta);
+    add_contact(model, placed[best], best, i, best_point, x_end, remembered(best), velocities,
+                beta);
     ++added;
     // Both slide: a stick of one would hold the vertex against the other's motion. A
     // sticking one takes the friction of the impulse it needed, or of its approach.
@@ -220,64 +220,64 @@ void ContactSet::set_targets(const Vec3List& x_end_base, double beta_end) {
   }
 }
 
-void ContactSet::project(Vec3List& v) const {
+template <typename Visit>
+void ContactSet::for_each_vertex(Visit visit) const {
   for (size_t k = 0; k < contacts_.size(); ++k) {
     const VertexContact& c = contacts_[k];
     const int second = second_of_vertex_[c.vertex];
     if (second == static_cast<int>(k)) continue;  // with the first
+    visit(c, second >= 0 ? &contacts_[second] : nullptr);
+  }
+}
+
+void ContactSet::project(Vec3List& v) const {
+  for_each_vertex([&](const VertexContact& c, const VertexContact* b) {
     Vec3& vi = v[c.vertex];
-    if (second >= 0) {  // both slide
-      const VertexContact& b = contacts_[second];
-      vi += along_two_normals(c.normal, b.normal, c.target - c.normal.dot(vi),
-                              b.target - b.normal.dot(vi));
+    if (b) {  // both slide
+      vi += along_two_normals(c.normal, b->normal, c.target - c.normal.dot(vi),
+                              b->target - b->normal.dot(vi));
     } else if (c.mode == ContactMode::Stick) {
       vi = c.surface_velocity + (c.target - c.normal.dot(c.surface_velocity)) * c.normal;
     } else {
       vi += (c.target - c.normal.dot(vi)) * c.normal;
     }
-  }
+  });
 }
 
 void ContactSet::filter(Eigen::VectorXd& y) const {
-  for (size_t k = 0; k < contacts_.size(); ++k) {
-    const VertexContact& c = contacts_[k];
-    const int second = second_of_vertex_[c.vertex];
-    if (second == static_cast<int>(k)) continue;  // with the first
+  for_each_vertex([&](const VertexContact& c, const VertexContact* b) {
     auto yi = y.segment<3>(3 * c.vertex);
-    if (second >= 0) {
-      const Vec3 n = contacts_[second].normal;
-      yi -= along_two_normals(c.normal, n, c.normal.dot(Vec3(yi)), n.dot(Vec3(yi)));
+    if (b) {
+      yi -= along_two_normals(c.normal, b->normal, c.normal.dot(Vec3(yi)),
+                              b->normal.dot(Vec3(yi)));
     } else if (c.mode == ContactMode::Stick) {
       yi.setZero();
     } else {
       yi -= c.normal.dot(Vec3(yi)) * c.normal;
     }
-  }
+  });
 }
 
 void ContactSet::stop_approach(Vec3List& v) const {
-  for (size_t k = 0; k < contacts_.size(); ++k) {
-    const VertexContact& c = contacts_[k];
-    const int second = second_of_vertex_[c.vertex];
-    if (second == static_cast<int>(k)) continue;  // with the first
+  for_each_vertex([&](const VertexContact& c, const VertexContact* b) {
     Vec3& vi = v[c.vertex];
     const double along = c.normal.dot(vi - c.surface_velocity);  // m/s
-    if (second < 0) {
+    if (!b) {
       if (along < 0.0) vi -= along * c.normal;
-      continue;
+      return;
     }
     // Both together: removing one approach alone can approach the other surface.
-    const VertexContact& b = contacts_[second];
-    const double along_b = b.normal.dot(vi - b.surface_velocity);  // m/s
-    if (along >= 0.0 && along_b >= 0.0) continue;
-    const Vec3 single = along < 0.0 ? Vec3(vi - along * c.normal) : Vec3(vi - along_b * b.normal);
+    const double along_b = b->normal.dot(vi - b->surface_velocity);  // m/s
+    if (along >= 0.0 && along_b >= 0.0) return;
+    const Vec3 single =
+        along < 0.0 ? Vec3(vi - along * c.normal) : Vec3(vi - along_b * b->normal);
     if (c.normal.dot(single - c.surface_velocity) >= 0.0 &&
-        b.normal.dot(single - b.surface_velocity) >= 0.0) {
+        b->normal.dot(single - b->surface_velocity) >= 0.0) {
       vi = single;
     } else {
-      vi -= along_two_normals(c.normal, b.normal, along, along_b);
+      vi -= along_two_normals(c.normal, b->normal, along, along_b);
     }
-  }
+  });
 }
 
 void ContactSet::add_friction(const Vec3List& v, Eigen::VectorXd& rhs) const {

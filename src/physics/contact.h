@@ -31,7 +31,7 @@
 //
 // A vertex in a corner of two obstacles (a floor and a wall) holds a contact on each, both
 // sliding, kept together: its velocity is constrained along both normals (which must be
-// more than kCornerAngle apart), and the reaction is split between them. With one contact,
+// more than kCornerCosine apart), and the reaction is split between them. With one contact,
 // the second obstacle met the vertex only after the solve, and the collision stage's
 // corrections of it gained energy.
 #pragma once
@@ -180,6 +180,10 @@ class ContactSet {
                    const SurfacePoint& p, const Vec3List& x_end, const Memory& last,
                    const Vec3List* velocities, double beta);
   std::vector<double> last_sliding_speed_;  // remember's scratch
+  // Calls visit(c, second) once for each vertex in contact: its (first) contact c and its
+  // second contact, or null.
+  template <typename Visit>
+  void for_each_vertex(Visit visit) const;
 };
 
 }  // namespace tissu

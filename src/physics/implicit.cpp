@@ -1006,8 +1006,8 @@ EnergyBalance energy_balance(const Model& model, const State& start, const State
                              double t, Workspace& ws, ContactWork contact_work) {
   ImplicitSolver& s = solver_of(ws);
   const bool moving = has_moving_obstacle(model, t, t + h);
-  const bool barrier = (model.implicit.contact == ContactModel::Barrier || model.self_collision) &&
-                       !(moving && contact_work == ContactWork::MidpointRule);
+  // energy_of is 0 where the barrier takes nothing.
+  const bool barrier = !(moving && contact_work == ContactWork::MidpointRule);
   EnergyBalance b;
   b.barrier = barrier ? s.barrier.energy_of(model, start.x, t) : 0.0;
   b.kinetic = kinetic_energy(model, start.v);
