@@ -23,8 +23,8 @@
 //   step and turned into an impulse over this step's beta. F is a function of the
 //   unknown velocity, with its Jacobian in the system, so a contact that friction slows
 //   down stops smoothly instead of having its friction reverse it.
-// Once the step's solve has converged, a sticking contact whose |J_t| exceeds mu J_n slides
-// and the solve goes on (once per contact and step). A sliding contact that ends a step
+// After each whole Newton step that changed no contact, a sticking contact whose |J_t|
+// exceeds mu J_n slides and the solve goes on (once per contact and step). A sliding contact that ends a step
 // using less than half of mu J_n (slower than 0.29 eps) sticks in the next. A new contact on an obstacle with friction starts
 // in the mode Coulomb's law predicts from the velocity it was caught with (sticking when no
 // velocity is given).
@@ -145,9 +145,9 @@ class ContactSet {
   // constrained vertices. Records them (a pulling J_n as 0 for friction).
   void update(const Eigen::VectorXd& reaction);
 
-  // Once the solve has converged (so that the impulses judged are the step's): sticking
-  // contacts whose solve needed more tangential impulse than mu J_n slide. A contact
-  // switches at most once in a step. Returns how many switched.
+  // After a whole Newton step on these contacts (so that the impulses judged are that
+  // solve's): sticking contacts whose solve needed more tangential impulse than mu J_n
+  // slide. A contact switches at most once in a step. Returns how many switched.
   int switch_modes();
 
   // At the end of a step with velocities v whose impulses act over beta (s): releases for

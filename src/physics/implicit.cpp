@@ -88,6 +88,12 @@ constexpr double kSufficientDecrease = 1e-4;  // Armijo constant
 // or the contacts change: a step does not end on a fraction of a Newton direction or on
 // contacts its last solve did not see, unless this runs out.
 constexpr int kExtraNewtonIterations = 8;
+// After sticking contacts switch to sliding, Newton takes at least this many more
+// iterations (a solve with the new modes, and one that checks them), and
+// kExtraNewtonIterations beyond while they change, up to kSwitchedNewtonFactor times its
+// usual most in all.
+constexpr int kIterationsAfterSwitch = 2;
+constexpr int kSwitchedNewtonFactor = 4;
 // End positions deeper than this inside the contact distance count as penetrating, m.
 constexpr double kPenetrationTolerance = 1e-9;
 
@@ -516,14 +522,18 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
   // short of its equilibrium by the whole tolerance, step after step.
   report.converged = (r <= opt.newton_tolerance * target);
 
-  const int iteration_limit = opt.max_newton_iterations + kExtraNewtonIterations;
+  // Newton stops at iteration_limit, or at settled_limit after a settled iteration; a
+  // switch of modes moves both on, up to `most`.
+  const int most = kSwitchedNewtonFactor * (opt.max_newton_iterations + kExtraNewtonIterations);
+  int iteration_limit = opt.max_newton_iterations + kExtraNewtonIterations;
+  int settled_limit = opt.max_newton_iterations;
   bool settled = true;  // the last iteration took a whole step and changed no contact
   for (int k = 0; free_dofs > 0; ++k) {
     // Converged, once the contacts (or the barrier) have been checked by a solve.
     if (report.converged && settled && (k > 0 || (s.contacts.empty() && !s.barrier.enabled()))) {
       break;
     }
-    if (k >= iteration_limit || (k >= opt.max_newton_iterations && settled)) break;
+    if (k >= iteration_limit || (k >= settled_limit && settled)) break;
     // The system matrix at the linearization point.
     t0 = std::clock();
     const Vec3List& x_lin = k == 0 ? state.x : s.x;
@@ -641,10 +651,16 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     const bool small_motion = settled && opt.newton_motion_tolerance > 0.0 &&
                               largest_change * eq.beta_end <= opt.newton_motion_tolerance;
     report.converged = small_motion || r <= target;
-    // Converged with these contacts: sticking ones the friction cone cannot hold slide, and
-    // Newton goes on.
-    if (report.converged && settled && s.contacts.switch_modes() > 0) {
+    // After a whole step on these contacts: sticking ones the friction cone cannot hold
+    // slide, and Newton goes on. Judged at every such step, not only once converged: a
+    // stick beyond its cone holds the cloth behind it while Newton works against it, and
+    // the cloth it frees may in turn need to slide (a sheet pushed over a floor by a wall
+    // frees row after row).
+    if (settled && s.contacts.switch_modes() > 0) {
       report.contact_changes += 1;
+      settled_limit = std::min(std::max(settled_limit, k + 1 + kIterationsAfterSwitch), most);
+      iteration_limit =
+          std::min(std::max(iteration_limit, settled_limit + kExtraNewtonIterations), most);
       settled = false;
       t0 = std::clock();
       r = residual_norm(model, s, eq, s.v, s.f);
