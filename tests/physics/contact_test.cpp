@@ -365,6 +365,43 @@ TEST(Contact, SlidingSheetDeceleratesAtMuGThenSticks) {
   }
 }
 
+// A sheet at rest on a belt (a level plane moving along itself at V): friction speeds it
+// up at mu g until it moves with the belt, within a step of V / (mu g), and then it rides
+// the belt without slipping. Against the surface this is the sliding sheet above, so the
+// same exactness holds: mu g h a step (the constraints, the default contact model).
+TEST(Contact, SheetOnABeltIsSpedUpAtMuGThenRidesIt) {
+  const double h = 1.0 / 60.0, mu = 0.5;  // s, -
+  const Vec3 belt(0.5, 0.2, 0.0);         // m/s
+  const double speed = belt.norm();
+  const Vec3 along = belt / speed;
+  for (Integrator integrator :
+       {Integrator::BackwardEuler, Integrator::Bdf2, Integrator::ImplicitMidpoint}) {
+    SCOPED_TRACE(integrator_name(integrator));
+    Incline in = sheet_on_incline(0.0, mu, h);
+    in.sheet.model.integrator = integrator;
+    in.sheet.model.obstacles[0].motion.velocity = belt;
+    Workspace ws;
+    const int sliding_steps = static_cast<int>(std::floor(speed / (mu * kG * h)));  // 6
+    for (int k = 1; k < sliding_steps; ++k) {
+      ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+      const double expected = k * mu * kG * h;  // m/s
+      for (const Vec3& v : in.sheet.state.v) {
+        EXPECT_NEAR(v.dot(along), expected, 1e-6 * speed) << "step " << k;
+        EXPECT_LT((v - v.dot(along) * along).norm(), 1e-6 * speed) << "step " << k;
+      }
+    }
+    const int settle = integrator == Integrator::Bdf2 ? 23 : 3;
+    for (int k = 0; k < settle; ++k) ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+    double slip = 0.0;  // m/s
+    for (int k = 0; k < 30; ++k) {
+      ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+      for (const Vec3& v : in.sheet.state.v) slip = std::max(slip, (v - belt).norm());
+    }
+    EXPECT_LT(slip, 1e-8);
+    for (const Vec3& p : in.sheet.state.x) EXPECT_NEAR(p.z(), 0.001, 1e-9);
+  }
+}
+
 // A new contact with friction starts in the mode Coulomb's law predicts from the velocity
 // it was caught with: a vertex skimming the plane fast slides, with friction of at most mu
 // times the impulse that stops its approach (and gravity's push over the step); one landing
