@@ -315,6 +315,9 @@ void ContactSet::update(const Eigen::VectorXd& reaction) {
     }
     c.pull = std::max(0.0, -along);
     c.normal_impulse = std::max(0.0, along);
+    // A stick let go in this step slides against the friction of the latest solve's J_n
+    // (judged at an iterate before convergence, its J_n may not have been the step's).
+    if (c.switched) c.friction_limit = c.friction * c.normal_impulse;
     if (c.mode == ContactMode::Stick) {
       c.tangential_impulse = impulse - c.normal.dot(impulse) * c.normal;
     }

@@ -24,7 +24,8 @@
 //   unknown velocity, with its Jacobian in the system, so a contact that friction slows
 //   down stops smoothly instead of having its friction reverse it.
 // After each whole Newton step that changed no contact, a sticking contact whose |J_t|
-// exceeds mu J_n slides and the solve goes on (once per contact and step). A sliding contact that ends a step
+// exceeds mu J_n slides and the solve goes on (once per contact and step); its friction
+// limit then follows the J_n of each later solve. A sliding contact that ends a step
 // using less than half of mu J_n (slower than 0.29 eps) sticks in the next. A new contact on an obstacle with friction starts
 // in the mode Coulomb's law predicts from the velocity it was caught with (sticking when no
 // velocity is given).
@@ -142,7 +143,8 @@ class ContactSet {
   void add_friction_jacobian(const Vec3List& v, SystemMatrix& system) const;
 
   // After a solve: `reaction` (3V) holds A dv - rhs, the constraint impulses at the
-  // constrained vertices. Records them (a pulling J_n as 0 for friction).
+  // constrained vertices. Records them (a pulling J_n as 0 for friction), and sets the
+  // friction limit of the contacts switched to sliding in this step to mu J_n.
   void update(const Eigen::VectorXd& reaction);
 
   // After a whole Newton step on these contacts (so that the impulses judged are that

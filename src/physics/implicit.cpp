@@ -88,10 +88,11 @@ constexpr double kSufficientDecrease = 1e-4;  // Armijo constant
 // or the contacts change: a step does not end on a fraction of a Newton direction or on
 // contacts its last solve did not see, unless this runs out.
 constexpr int kExtraNewtonIterations = 8;
-// After sticking contacts switch to sliding, Newton takes at least this many more
-// iterations (a solve with the new modes, and one that checks them), and
-// kExtraNewtonIterations beyond while they change, up to kSwitchedNewtonFactor times its
-// usual most in all.
+// After sticking contacts switch to sliding, Newton solves at least once more with the
+// new modes, and kIterationsAfterSwitch times unless the first of those converges (plus
+// kExtraNewtonIterations while contacts change), up to kSwitchedNewtonFactor times its
+// usual most in all. Each switch frees the next row of a sheet pushed over a floor, so that
+// most caps the rows one step frees.
 constexpr int kIterationsAfterSwitch = 2;
 constexpr int kSwitchedNewtonFactor = 4;
 // End positions deeper than this inside the contact distance count as penetrating, m.
@@ -423,13 +424,13 @@ class Merit {
 // x_lin = x_n (Baraff & Witkin 1998, eq. 16 for backward Euler), later ones at the iterate,
 // x_lin = x(v), where the right-hand side is -g(v). PCG solves it with the contacts'
 // constrained directions filtered out. Between iterations the contacts are updated (an
-// active-set Newton method): released where they pull, switched between stick and slide,
+// active-set Newton method): released where they pull, switched from stick to slide,
 // added where the iterate would end inside an obstacle. A backtracking line search on the
 // merit (incremental potential or residual) picks each step length. Newton stops when the
 // residual is below newton_tolerance times the initial one (or, with newton_motion_tolerance,
 // the step moved no end position by more than that) after a whole step that changed no
 // contact, or after max_newton_iterations iterations if the last was such a step, or after
-// kExtraNewtonIterations more.
+// kExtraNewtonIterations more; a switch from stick to slide extends both limits.
 void newton_solve(const Model& model, const State& state, Workspace& ws, ImplicitSolver& s,
                   const StepEquation& eq) {
   const int n = model.num_vertices();
@@ -604,6 +605,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
         best_alpha = alpha;
       }
     }
+    const bool descended = accepted > 0.0 || best_alpha > 0.0;
     if (accepted == 0.0) {
       report.line_search_failed = best_alpha == 0.0;
       accepted = best_alpha > 0.0 ? best_alpha : (k == 0 ? 0.0 : longest);
@@ -656,7 +658,9 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     // stick beyond its cone holds the cloth behind it while Newton works against it, and
     // the cloth it frees may in turn need to slide (a sheet pushed over a floor by a wall
     // frees row after row).
-    if (settled && s.contacts.switch_modes() > 0) {
+    // Judged on a solve that converged and a step that descended, and only while a solve
+    // with the new modes can follow.
+    if (settled && cg.converged && descended && k + 1 < most && s.contacts.switch_modes() > 0) {
       report.contact_changes += 1;
       settled_limit = std::min(std::max(settled_limit, k + 1 + kIterationsAfterSwitch), most);
       iteration_limit =

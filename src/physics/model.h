@@ -107,8 +107,8 @@ struct ImplicitOptions {
                                  // (dimensionless, >= 0; 1, critical, the default; 0:
                                  // none, the elastic barrier)
   int max_newton_iterations = 8;   // 1 = one Newton iteration (Baraff & Witkin); a step
-                                   // the line search shortened, or whose contacts changed,
-                                   // gets a few more (docs/implicit.md)
+                                   // the line search shortened, or whose contacts changed
+                                   // or slid, gets a few more (docs/implicit.md)
   double newton_tolerance = 1e-2;  // relative residual of the nonlinear step
   double newton_motion_tolerance = 0.0;  // m: Newton also stops after a whole step (no
                                          // contact change) that moved no vertex's end

@@ -57,19 +57,19 @@ inline Material test_material() {
   return mat;
 }
 
-// A flat cotton sheet (membrane only, no bending model to build) of nx x nx irregular cells
-// and side `size` (m), centred at the origin in the x-y plane, at rest, under gravity
+// A flat cotton sheet (membrane only, no bending model to build) of nx x ny irregular cells
+// and sides w x h (m), centred at the origin in the x-y plane, at rest, under gravity
 // (9.81 m/s^2 along -z), stepped by `integrator` at dt (s).
 struct Sheet {
   Model model;
   State state;
 };
 
-inline Sheet cotton_sheet(double size, int nx, Integrator integrator, double dt,
-                          unsigned seed = 3) {
+inline Sheet cotton_rectangle(double w, double h, int nx, int ny, Integrator integrator,
+                              double dt, unsigned seed = 3) {
   Sheet s;
   Vec3List x;
-  s.model = grid_model(size, size, nx, nx, 0.25, seed, &x);
+  s.model = grid_model(w, h, nx, ny, 0.25, seed, &x);
   s.model.material = *material_preset("cotton");
   s.model.material.bending = 0.0;
   s.model.gravity = Vec3(0, 0, -9.81);
@@ -79,6 +79,12 @@ inline Sheet cotton_sheet(double size, int nx, Integrator integrator, double dt,
   s.state.x = x;
   s.state.v.assign(x.size(), Vec3::Zero());
   return s;
+}
+
+// The square one: nx x nx cells, side `size` (m).
+inline Sheet cotton_sheet(double size, int nx, Integrator integrator, double dt,
+                          unsigned seed = 3) {
+  return cotton_rectangle(size, size, nx, nx, integrator, dt, seed);
 }
 
 // An obstacle of the given kind (a cylinder's half length equals its radius).
