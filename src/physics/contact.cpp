@@ -315,19 +315,17 @@ void ContactSet::update(const Eigen::VectorXd& reaction) {
     }
     c.pull = std::max(0.0, -along);
     c.normal_impulse = std::max(0.0, along);
-    // A stick let go in this step slides against the friction of the latest solve's J_n
-    // (judged at an iterate before convergence, its J_n may not have been the step's).
-    if (c.switched) c.friction_limit = c.friction * c.normal_impulse;
     if (c.mode == ContactMode::Stick) {
       c.tangential_impulse = impulse - c.normal.dot(impulse) * c.normal;
     }
   }
 }
 
-int ContactSet::switch_modes() {
+int ContactSet::switch_modes(bool converged) {
   int switched = 0;
   for (VertexContact& c : contacts_) {
     if (c.friction == 0.0 || c.switched || c.mode != ContactMode::Stick) continue;
+    if (!converged && c.normal_impulse <= 0.0) continue;  // not loaded yet: judged later
     const double limit = c.friction * c.normal_impulse;
     if (c.tangential_impulse.norm() <= limit) continue;
     c.mode = ContactMode::Slide;

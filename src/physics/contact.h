@@ -24,8 +24,8 @@
 //   unknown velocity, with its Jacobian in the system, so a contact that friction slows
 //   down stops smoothly instead of having its friction reverse it.
 // After each whole Newton step that changed no contact, a sticking contact whose |J_t|
-// exceeds mu J_n slides and the solve goes on (once per contact and step); its friction
-// limit then follows the J_n of each later solve. A sliding contact that ends a step
+// exceeds mu J_n slides and the solve goes on (once per contact and step); before the
+// solve has converged, only one that pushes (J_n > 0). A sliding contact that ends a step
 // using less than half of mu J_n (slower than 0.29 eps) sticks in the next. A new contact on an obstacle with friction starts
 // in the mode Coulomb's law predicts from the velocity it was caught with (sticking when no
 // velocity is given).
@@ -143,14 +143,15 @@ class ContactSet {
   void add_friction_jacobian(const Vec3List& v, SystemMatrix& system) const;
 
   // After a solve: `reaction` (3V) holds A dv - rhs, the constraint impulses at the
-  // constrained vertices. Records them (a pulling J_n as 0 for friction), and sets the
-  // friction limit of the contacts switched to sliding in this step to mu J_n.
+  // constrained vertices. Records them (a pulling J_n as 0 for friction).
   void update(const Eigen::VectorXd& reaction);
 
   // After a whole Newton step on these contacts (so that the impulses judged are that
   // solve's): sticking contacts whose solve needed more tangential impulse than mu J_n
-  // slide. A contact switches at most once in a step. Returns how many switched.
-  int switch_modes();
+  // slide; before the solve has `converged`, only those that push (J_n > 0: one not yet
+  // loaded would slide without friction). A contact switches at most once in a step.
+  // Returns how many switched.
+  int switch_modes(bool converged);
 
   // At the end of a step with velocities v whose impulses act over beta (s): releases for
   // the next step the contacts that pulled harder than `release` (per vertex, kg*m/s),

@@ -660,7 +660,8 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     // frees row after row).
     // Judged on a solve that converged and a step that descended, and only while a solve
     // with the new modes can follow.
-    if (settled && cg.converged && descended && k + 1 < most && s.contacts.switch_modes() > 0) {
+    if (settled && cg.converged && descended && k + 1 < most &&
+        s.contacts.switch_modes(report.converged) > 0) {
       report.contact_changes += 1;
       settled_limit = std::min(std::max(settled_limit, k + 1 + kIterationsAfterSwitch), most);
       iteration_limit =

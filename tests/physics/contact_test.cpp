@@ -521,7 +521,11 @@ TEST(Contact, SheetDroppedOnASphereAtThirtyHertzNeverEndsInsideNorGainsEnergy) {
     EXPECT_GE(closest, thickness - 1e-9);
     EXPECT_LT(closest, thickness + 1e-3) << "the sheet lands on the sphere";
     EXPECT_LE(highest, 1e-9);
-    EXPECT_GT(substeps, 1) << "the impact is solved in substeps";
+    // The landing is hard enough to need substeps, except with BDF-2, which since sticks
+    // give way within the step (docs/implicit.md) solves it whole.
+    if (integrator != Integrator::Bdf2) {
+      EXPECT_GT(substeps, 1) << "the impact is solved in substeps";
+    }
   }
 }
 
