@@ -88,11 +88,11 @@ constexpr double kSufficientDecrease = 1e-4;  // Armijo constant
 // or the contacts change: a step does not end on a fraction of a Newton direction or on
 // contacts its last solve did not see, unless this runs out.
 constexpr int kExtraNewtonIterations = 8;
-// After sticking contacts switch to sliding, Newton solves at least once more with the
-// new modes, and kIterationsAfterSwitch times unless the first of those converges (plus
-// kExtraNewtonIterations while contacts change), up to kSwitchedNewtonFactor times its
-// usual most in all. Each switch frees the next row of a sheet pushed over a floor, so that
-// most caps the rows one step frees.
+// After sticking contacts switch to sliding, Newton may stop only after
+// kIterationsAfterSwitch more iterations (sooner if it converges on the new modes), and
+// kExtraNewtonIterations beyond while contacts change; never past kSwitchedNewtonFactor
+// times its usual limit. Each switch frees the next row of a sheet pushed over a floor, so
+// that cap also bounds the rows one step frees.
 constexpr int kIterationsAfterSwitch = 2;
 constexpr int kSwitchedNewtonFactor = 4;
 // End positions deeper than this inside the contact distance count as penetrating, m.
@@ -653,13 +653,12 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     const bool small_motion = settled && opt.newton_motion_tolerance > 0.0 &&
                               largest_change * eq.beta_end <= opt.newton_motion_tolerance;
     report.converged = small_motion || r <= target;
-    // After a whole step on these contacts: sticking ones the friction cone cannot hold
-    // slide, and Newton goes on. Judged at every such step, not only once converged: a
+    // After a whole step on these contacts (its CG converged, its line search descended):
+    // sticking ones the friction cone cannot hold slide, and Newton goes on, while a solve
+    // with the new modes can follow. Judged at every such step, not only once converged: a
     // stick beyond its cone holds the cloth behind it while Newton works against it, and
     // the cloth it frees may in turn need to slide (a sheet pushed over a floor by a wall
     // frees row after row).
-    // Judged on a solve that converged and a step that descended, and only while a solve
-    // with the new modes can follow.
     if (settled && cg.converged && descended && k + 1 < most &&
         s.contacts.switch_modes(report.converged) > 0) {
       report.contact_changes += 1;

@@ -647,6 +647,15 @@ TEST(Contact, VertexInAGrooveStopsApproachingBothSides) {
   EXPECT_GE(right.dot(v[0]), 0.0);
 }
 
+// Lays sheet s 2 mm above a floor with friction 0.8, and stands a wall of friction 0.3
+// at x = wall_x (m), facing +x and moving towards the sheet at wall_speed (m/s).
+void lay_before_a_wall(Sheet& s, double wall_x, double wall_speed) {
+  for (Vec3& p : s.state.x) p.z() = 0.002;
+  s.model.obstacles = {plane(Vec3::Zero(), Vec3::UnitZ(), 0.8, 0.0),
+                       plane(Vec3(wall_x, 0.0, 0.0), Vec3::UnitX(), 0.3, 0.0)};
+  s.model.obstacles[1].motion.velocity = Vec3(wall_speed, 0.0, 0.0);
+}
+
 // A flat 0.4 m cotton sheet lying on a floor with friction 0.8, pushed along it by a wall
 // moving at 0.3 m/s, with backward Euler at 1/60 s: the wall moves the sheet without
 // squeezing it, and no vertex ends inside either plane. With one contact a vertex, the
@@ -654,10 +663,7 @@ TEST(Contact, VertexInAGrooveStopsApproachingBothSides) {
 // collision stage moved them out: here 28.6% strain (docs/implicit.md).
 TEST(Contact, WallPushingASheetOverAFrictionalFloorDoesNotSqueezeIt) {
   Sheet s = cotton_sheet(0.4, 12, Integrator::BackwardEuler, 1.0 / 60.0);
-  for (Vec3& p : s.state.x) p.z() = 0.002;
-  s.model.obstacles = {plane(Vec3::Zero(), Vec3::UnitZ(), 0.8, 0.0),
-                       plane(Vec3(-0.21, 0.0, 0.0), Vec3::UnitX(), 0.3, 0.0)};
-  s.model.obstacles[1].motion.velocity = Vec3(0.3, 0.0, 0.0);
+  lay_before_a_wall(s, -0.21, 0.3);
   Workspace ws;
   double strain = 0.0, closest = INFINITY;
   for (int k = 0; k < 45; ++k) {  // 0.75 s: the wall moves 0.225 m into the sheet
@@ -691,10 +697,7 @@ TEST(Contact, WallPushingASheetOverAFrictionalFloorDoesNotThrowIt) {
     SCOPED_TRACE(::testing::Message() << (integrator == Integrator::Bdf2 ? "BDF-2" : "BE")
                                       << " h = " << h);
     Sheet s = cotton_rectangle(length, 0.5, 28, 18, integrator, h);
-    for (Vec3& p : s.state.x) p.z() = 0.002;
-    s.model.obstacles = {plane(Vec3::Zero(), Vec3::UnitZ(), 0.8, 0.0),
-                         plane(Vec3(-0.5 * length - gap, 0.0, 0.0), Vec3::UnitX(), 0.3, 0.0)};
-    s.model.obstacles[1].motion.velocity = Vec3(wall_speed, 0.0, 0.0);
+    lay_before_a_wall(s, -0.5 * length - gap, wall_speed);
     Workspace ws;
     double fastest = 0.0;  // m/s, of the centre of mass
     while (s.state.t < duration - 1e-9) {
