@@ -8,7 +8,8 @@
 // substep's Newton iterations one by one (residual, line-search length, the barrier's
 // longest step, the merit's change, vertices within dhat, CG iterations), factorizations,
 // contact changes and the processor time of its stages. A run that diverges stops there,
-// averages over the steps it took and exits with 3.
+// averages over the steps it took and exits with 3. The last line sums, over the steps, the
+// processor time of each stage of their last substeps.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -90,6 +91,8 @@ int main(int argc, char** argv) {
               "contacts", "ms");
   double total = 0.0;
   long long newton = 0, cg = 0, factorizations = 0, steps = 0;
+  // Processor seconds of the stages of each step's last substep, summed.
+  double jacobian = 0.0, preconditioner = 0.0, cg_seconds = 0.0, residual = 0.0, contact = 0.0;
   bool diverged = false;
   for (long long k = 0; k < scene.steps; ++k) {
     const int predicted = detail ? implicit_substeps(sim.model, sim.state) : 0;
@@ -102,6 +105,13 @@ int main(int argc, char** argv) {
     cg += ws.cg_iterations;
     factorizations += ws.factorizations;
     const ImplicitReport* r = last_implicit_report(ws);
+    if (r) {
+      jacobian += r->seconds_jacobian;
+      preconditioner += r->seconds_preconditioner;
+      cg_seconds += r->seconds_cg;
+      residual += r->seconds_residual;
+      contact += r->seconds_contact;
+    }
     if (r && (k % every == 0 || divergence)) {
       std::printf("%6lld %8.4f %4d %6d %6d %8d %8.1f\n", k, sim.state.t, ws.substeps,
                   ws.newton_iterations, ws.cg_iterations, r->contacts, ms);
@@ -124,5 +134,10 @@ int main(int argc, char** argv) {
       "CG/Newton, %.2f factorizations/step\n",
       total, steps, diverged ? " (DIVERGED)" : "", total / n, double(newton) / n, double(cg) / n,
       double(cg) / std::max(1LL, newton), double(factorizations) / n);
+  std::printf(
+      "last substeps' stages, ms/step: jacobian %.2f, preconditioner %.2f, cg %.2f, residual "
+      "%.2f, contact %.2f\n",
+      1e3 * jacobian / n, 1e3 * preconditioner / n, 1e3 * cg_seconds / n, 1e3 * residual / n,
+      1e3 * contact / n);
   return diverged ? 3 : 0;
 }
