@@ -259,6 +259,24 @@ double holding_gap(double force, double dhat, double kappa) {
   return above;
 }
 
+int lift_to_holding_gaps(const Model& model, Vec3List& x, const Vec3List& f, double t) {
+  const double dhat = barrier_distance(model), dt = stiffness_step(model);
+  int lifted = 0;
+  for (const Obstacle& ob : model.obstacles) {
+    const PlacedObstacle placed = place_obstacle(ob, t);
+    for (int i = 0; i < model.num_vertices(); ++i) {
+      if (model.pinned[i] || gap_distance(placed, x[i], dhat) >= dhat) continue;
+      const Gap g = obstacle_gap(placed, x[i]);
+      const double hold =
+          holding_gap(-f[i].dot(g.normal), dhat, barrier_stiffness(model.mass[i], dt));
+      if (g.d >= hold) continue;
+      x[i] += (hold - g.d) * g.normal;
+      ++lifted;
+    }
+  }
+  return lifted;
+}
+
 void BarrierContact::push_out(Vec3List& v, const Vec3List& v_base,
                               const std::function<const Vec3List&()>& forces,
                               const Vec3List*& f) const {

@@ -276,6 +276,16 @@ double barrier_stiffness(double mass, double dt);
 // kappa (kg/s^2) and dhat (m); dhat where the force is not positive.
 double holding_gap(double force, double dhat, double kappa);
 
+// Cloth laid by the scene closer to an obstacle than the gap where the barrier holds it (on
+// its thickness, say) would be thrown off by the first step: the solve moves it out to that
+// gap and the step's end velocity keeps the motion. At a run's start, before its first
+// step, each free vertex within dhat of an obstacle (placed at t, s) is moved out along the
+// normal, positions only, to the gap where the barrier holds the force f (N) pressing it
+// there, dhat where nothing presses it; a vertex already beyond that gap stays. This is
+// the paper's position correction: positions move, velocities do not. Returns how many
+// vertices moved.
+int lift_to_holding_gaps(const Model& model, Vec3List& x, const Vec3List& f, double t);
+
 // BarrierContact::energy_of without a contact object at hand (its mesh features found
 // again on each call).
 double barrier_energy_of(const Model& model, const Vec3List& x, double t);

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "physics/barrier_contact.h"
 #include "physics/diagnostics.h"
 #include "physics/force_plan.h"
 #include "physics/forces.h"
@@ -132,6 +133,12 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   const int threads = force_threads(ws.threads, model);
   const bool contact_stage = needs_cloth_contact(model);
   if (contact_stage && explicit_step) scratch.x_start = state.x;
+  // Cloth the scene lays within the barrier's holding gap starts at that gap.
+  if (state.step == 0 && !explicit_step && model.implicit.contact == ContactModel::Barrier &&
+      !model.obstacles.empty()) {
+    compute_forces(model, state.x, state.v, state.t, scratch.f, forces, threads);
+    lift_to_holding_gaps(model, state.x, scratch.f, state.t);
+  }
   if (!scratch.has_energy_limit) {
     scratch.energy_limit = energy_limit(model, state);
     scratch.has_energy_limit = true;
