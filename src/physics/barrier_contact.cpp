@@ -61,6 +61,10 @@ constexpr int kFeasibleRounds = 4;
 // the silk fold 54% more.)
 constexpr int kHoldRounds = 8;
 
+// Rounds of separate_laid_layers: each opens the pairs found at its start, which can close
+// others a little; the next finds those.
+constexpr int kSeparationRounds = 8;
+
 }  // namespace
 
 double barrier_distance(const Model& model) {
@@ -275,6 +279,56 @@ int lift_to_holding_gaps(const Model& model, Vec3List& x, const Vec3List& f, dou
     }
   }
   return lifted;
+}
+
+int separate_laid_layers(const Model& model, Vec3List& x, double t) {
+  SelfBarrier self;
+  self.begin(model);
+  if (!self.active()) return 0;
+  const double dhat = barrier_distance(model);
+  const int n = model.num_vertices();
+  std::vector<PlacedObstacle> placed;
+  for (const Obstacle& ob : model.obstacles) placed.push_back(place_obstacle(ob, t));
+  std::vector<double> support(n);  // each vertex's gap to the nearest obstacle, m (<= dhat)
+  int opened = 0;
+  for (int round = 0; round < kSeparationRounds; ++round) {
+    for (int i = 0; i < n; ++i) {
+      support[i] = dhat;
+      for (const PlacedObstacle& o : placed) {
+        support[i] = std::min(support[i], gap_distance(o, x[i], dhat));
+      }
+    }
+    self.find_pairs(x, x, dhat);
+    int this_round = 0;
+    // Each gap is taken at x as earlier pairs of the round left it.
+    self.for_each_gap(x, [&](const PairGap& g) {
+      if (g.d >= dhat) return;
+      // The piece nearer an obstacle stays where the other is within dhat of one too.
+      double nearest[2] = {dhat, dhat};
+      for (int k = 0; k < g.count; ++k) {
+        double& near = nearest[k < g.split ? 0 : 1];
+        near = std::min(near, support[g.vertices[k]]);
+      }
+      const int stays = nearest[0] < nearest[1] ? 0 : nearest[1] < nearest[0] ? 1 : -1;
+      const auto moves = [&](int k) {
+        return !model.pinned[g.vertices[k]] && (k < g.split ? 0 : 1) != stays;
+      };
+      double inertia = 0.0;  // sum of w_k^2 / m_k over the vertices that move, 1/kg
+      for (int k = 0; k < g.count; ++k) {
+        if (moves(k)) inertia += g.weights[k] * g.weights[k] / model.mass[g.vertices[k]];
+      }
+      if (!(inertia > 0.0)) return;
+      const double scale = (dhat - g.d) / inertia;  // kg*m
+      for (int k = 0; k < g.count; ++k) {
+        const int i = g.vertices[k];
+        if (moves(k)) x[i] += (scale * g.weights[k] / model.mass[i]) * g.normal;
+      }
+      ++this_round;
+    });
+    opened += this_round;
+    if (this_round == 0) break;
+  }
+  return opened;
 }
 
 void BarrierContact::push_out(Vec3List& v, const Vec3List& v_base,
