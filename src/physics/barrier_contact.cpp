@@ -61,8 +61,8 @@ constexpr int kFeasibleRounds = 4;
 // the silk fold 54% more.)
 constexpr int kHoldRounds = 8;
 
-// Rounds of separate_laid_layers: each opens the pairs found at its start, which can close
-// others a little; the next finds those.
+// Rounds of separate_laid_layers: each opens the pairs found at its start as far as their
+// paths allow; the next finds those still closer than dhat.
 constexpr int kSeparationRounds = 8;
 
 }  // namespace
@@ -289,44 +289,60 @@ int separate_laid_layers(const Model& model, Vec3List& x, double t) {
   const int n = model.num_vertices();
   std::vector<PlacedObstacle> placed;
   for (const Obstacle& ob : model.obstacles) placed.push_back(place_obstacle(ob, t));
-  std::vector<double> support(n);  // each vertex's gap to the nearest obstacle, m (<= dhat)
+  std::vector<double> support(n);  // each vertex's gap to the nearest obstacle, m
+  Vec3List move(n), target(n);     // m
   int opened = 0;
   for (int round = 0; round < kSeparationRounds; ++round) {
     for (int i = 0; i < n; ++i) {
-      support[i] = dhat;
-      for (const PlacedObstacle& o : placed) {
-        support[i] = std::min(support[i], gap_distance(o, x[i], dhat));
-      }
+      support[i] = INFINITY;
+      for (const PlacedObstacle& o : placed) support[i] = std::min(support[i], gap_distance(o, x[i]));
     }
+    // Each vertex takes the largest of the moves its pairs ask of it (all from the same x).
+    std::fill(move.begin(), move.end(), Vec3::Zero());
     self.find_pairs(x, x, dhat);
-    int this_round = 0;
-    // Each gap is taken at x as earlier pairs of the round left it.
+    int open = 0;
     self.for_each_gap(x, [&](const PairGap& g) {
       if (g.d >= dhat) return;
-      // The piece nearer an obstacle stays where the other is within dhat of one too.
-      double nearest[2] = {dhat, dhat};
+      // The piece farther from the obstacles moves, or both where they are as far; a piece
+      // with a pinned vertex stays. A piece moved as a whole by delta along the normal
+      // changes the gap by delta (its weights sum to +1, the second's to -1).
+      double nearest[2] = {INFINITY, INFINITY}, mass[2] = {0.0, 0.0};
+      bool pinned[2] = {false, false};
       for (int k = 0; k < g.count; ++k) {
-        double& near = nearest[k < g.split ? 0 : 1];
-        near = std::min(near, support[g.vertices[k]]);
+        const int piece = k < g.split ? 0 : 1, i = g.vertices[k];
+        nearest[piece] = std::min(nearest[piece], support[i]);
+        mass[piece] += model.mass[i];
+        pinned[piece] = pinned[piece] || model.pinned[i];
       }
-      const int stays = nearest[0] < nearest[1] ? 0 : nearest[1] < nearest[0] ? 1 : -1;
-      const auto moves = [&](int k) {
-        return !model.pinned[g.vertices[k]] && (k < g.split ? 0 : 1) != stays;
-      };
-      double inertia = 0.0;  // sum of w_k^2 / m_k over the vertices that move, 1/kg
+      bool moves[2] = {!pinned[0] && !(nearest[0] < nearest[1]),
+                       !pinned[1] && !(nearest[1] < nearest[0])};
+      if (!moves[0] && !moves[1]) return;
+      const double opening = dhat - g.d;  // m
+      const double share0 = !moves[1] ? 1.0 : !moves[0] ? 0.0 : mass[1] / (mass[0] + mass[1]);
       for (int k = 0; k < g.count; ++k) {
-        if (moves(k)) inertia += g.weights[k] * g.weights[k] / model.mass[g.vertices[k]];
+        const int piece = k < g.split ? 0 : 1, i = g.vertices[k];
+        if (!moves[piece]) continue;
+        const Vec3 m = (piece == 0 ? share0 * opening : -(1.0 - share0) * opening) * g.normal;
+        if (m.squaredNorm() > move[i].squaredNorm()) move[i] = m;
       }
-      if (!(inertia > 0.0)) return;
-      const double scale = (dhat - g.d) / inertia;  // kg*m
-      for (int k = 0; k < g.count; ++k) {
-        const int i = g.vertices[k];
-        if (moves(k)) x[i] += (scale * g.weights[k] / model.mass[i]) * g.normal;
-      }
-      ++this_round;
+      ++open;
     });
-    opened += this_round;
-    if (this_round == 0) break;
+    if (open == 0) break;
+    opened += open;
+    // The moves stop short of the first touch of the cloth with itself or an obstacle on
+    // their straight paths, as the solve's line search does.
+    for (int i = 0; i < n; ++i) target[i] = x[i] + move[i];
+    self.find_pairs(x, target, dhat);
+    double reach = self.first_touch(x, target);
+    for (int i = 0; i < n; ++i) {
+      if (move[i].isZero()) continue;
+      for (const PlacedObstacle& o : placed) {
+        if (gap_distance(o, x[i], dhat) > 0.0) reach = std::min(reach, first_touch(o, x[i], move[i]));
+      }
+    }
+    const double length = reach < 1.0 ? kBarrierStepFraction * reach : 1.0;
+    if (!(length > 0.0)) break;
+    for (int i = 0; i < n; ++i) x[i] += length * move[i];
   }
   return opened;
 }

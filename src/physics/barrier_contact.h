@@ -290,12 +290,15 @@ int lift_to_holding_gaps(const Model& model, Vec3List& x, const Vec3List& f, dou
 // pushes, with many pairs on each vertex of a flat contact) are thrown apart by the first
 // step as cloth on an obstacle was: two sheets laid 1 mm beyond the thickness flew up at
 // 2.7 m/s. At a run's start, before its first step (and again after lift_to_holding_gaps
-// if that moved any vertex), each self pair closer than dhat is opened to dhat, positions only, by the least mass-weighted
-// move of its vertices along its normal. Where one piece of a pair is nearer an obstacle
-// (within dhat of one) than the other, that piece stays and the other moves, so a layer
-// lying on an obstacle stays and the one above it rises; pinned vertices stay. Rounds of
-// this over the pairs found again, until none is closer than dhat (or kSeparationRounds).
-// Returns how many pair openings were made.
+// if that moved any vertex), the self pairs found apart but closer than dhat are opened
+// toward dhat, positions only: each asks the piece farther from the obstacles (a layer on
+// the ground stays, the one on it rises) to move as a whole along its normal by what opens
+// it to dhat, or both pieces, shared by mass, where they are as far; a piece with a pinned
+// vertex stays. Each vertex takes the largest move asked of it, and all moves stop at
+// kBarrierStepFraction of the first touch of the cloth with itself or an obstacle on their
+// paths. Rounds of this over the pairs found again, until none is closer than dhat (or
+// kSeparationRounds). Pairs not apart (closer than the thickness) are left to the solve and
+// the collision stage. Returns how many pair openings were asked.
 int separate_laid_layers(const Model& model, Vec3List& x, double t);
 
 // BarrierContact::energy_of without a contact object at hand (its mesh features found

@@ -648,10 +648,10 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     r = residual_norm(model, s, eq, s.v, s.f);
     report.seconds_residual += processor_seconds_since(t0);
     report.residuals.push_back(r);
-    // A step cut short from an iterate as close as a guess must be to pass unsolved settles
-    // too: there the merit's changes are rounding (a sheet at rest on the barrier: 1e-19 J),
-    // which no whole step can be told to decrease.
-    settled = (accepted == 1.0 || r_start <= opt.newton_tolerance * target) &&
+    // A step cut short (but taken) from an iterate as close as a guess must be to pass
+    // unsolved settles too: there the merit's changes are rounding (a sheet at rest on the
+    // barrier: 1e-19 J), which no whole step can be told to decrease.
+    settled = (accepted == 1.0 || (accepted > 0.0 && r_start <= opt.newton_tolerance * target)) &&
               contact_changes == 0;
     // The residual rule, or (newton_motion_tolerance) a whole step that moved every end
     // position by less than the tolerance: the next would move them by far less.
