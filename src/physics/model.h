@@ -180,6 +180,7 @@ struct State {
   double t = 0.0;  // s
   long long step = 0;
   StepHistory previous;  // empty unless an implicit integrator stepped
+  bool start_placed = false;  // prepare_start has placed the run's start (step.h)
 };
 
 // Builds the rest data (eq. 1-2, and its vectorised layout), lumped masses and areas from a

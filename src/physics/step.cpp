@@ -119,6 +119,18 @@ void resolve_collisions(const Model& model, double t, Vec3List& x, Vec3List& v) 
   }
 }
 
+void prepare_start(const Model& model, State& state) {
+  if (state.step != 0 || state.start_placed || is_explicit(model.integrator)) return;
+  state.start_placed = true;
+  if (model.self_collision) separate_laid_layers(model, state.x, state.t);
+  if (model.implicit.contact != ContactModel::Barrier || model.obstacles.empty()) return;
+  Vec3List f;
+  compute_forces(model, state.x, state.v, state.t, f);
+  const int lifted = lift_to_holding_gaps(model, state.x, f, state.t);
+  // Layers the lift brought together again are opened again.
+  if (model.self_collision && lifted > 0) separate_laid_layers(model, state.x, state.t);
+}
+
 std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) {
   const int n = model.num_vertices();
   const double h = model.dt;
@@ -133,17 +145,7 @@ std::optional<Divergence> step(const Model& model, State& state, Workspace& ws) 
   const int threads = force_threads(ws.threads, model);
   const bool contact_stage = needs_cloth_contact(model);
   if (contact_stage && explicit_step) scratch.x_start = state.x;
-  // Layers the scene lays within dhat of each other start dhat apart, and cloth it lays
-  // within the barrier's holding gap of an obstacle starts at that gap; layers that lift
-  // brings together again are opened again.
-  if (state.step == 0 && !explicit_step) {
-    if (model.self_collision) separate_laid_layers(model, state.x, state.t);
-    if (model.implicit.contact == ContactModel::Barrier && !model.obstacles.empty()) {
-      compute_forces(model, state.x, state.v, state.t, scratch.f, forces, threads);
-      const int lifted = lift_to_holding_gaps(model, state.x, scratch.f, state.t);
-      if (model.self_collision && lifted > 0) separate_laid_layers(model, state.x, state.t);
-    }
-  }
+  prepare_start(model, state);
   if (!scratch.has_energy_limit) {
     scratch.energy_limit = energy_limit(model, state);
     scratch.has_energy_limit = true;

@@ -23,6 +23,14 @@ struct Divergence {
   std::string reason;  // "non-finite position", "speed 1.2e+03 m/s exceeds 100 m/s", ...
 };
 
+// A run's start for the implicit integrators, where the barrier acts: layers the scene lays
+// within dhat of each other are opened to dhat, and cloth it lays within the gap where an
+// obstacle's barrier holds it is moved out to that gap (the barrier model), positions only
+// (separate_laid_layers and lift_to_holding_gaps, barrier_contact.h), so that no first step
+// throws them apart. Called by the Stepper before a run's first sample and by step() at
+// step 0; does nothing past step 0, twice, or for the explicit integrators.
+void prepare_start(const Model& model, State& state);
+
 // Advances `state` by model.dt. Returns the divergence when the new state is non-finite,
 // runs away (a vertex faster than model.max_speed) or holds far more energy than the scene
 // can supply (see energy_limit); the state is then left as computed.

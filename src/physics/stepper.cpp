@@ -8,6 +8,7 @@ namespace tissu {
 
 Stepper::Stepper(const Model& model, State& state, int threads) : model_(model), state_(state) {
   ws_.threads = threads;
+  prepare_start(model, state);  // before the run's first sample
 }
 
 std::optional<Divergence> Stepper::advance(bool keep_before) {

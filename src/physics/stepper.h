@@ -26,7 +26,8 @@ struct StepTotals {
 
 class Stepper {
  public:
-  // Steps `state` of `model` (both outlive the stepper) on `threads` threads.
+  // Steps `state` of `model` (both outlive the stepper) on `threads` threads. A state at its
+  // run's start is prepared for it first (prepare_start, step.h).
   Stepper(const Model& model, State& state, int threads = 1);
 
   // One step. With keep_before, before() holds the state it started from (positions,

@@ -171,6 +171,7 @@ ProbeResult run_probe(const Simulation& base, const ProbeSpec& spec) {
   const long long monitor_every =
       spec.monitor_every > 0 ? spec.monitor_every : std::max<long long>(1, r.steps / 256);
 
+  prepare_start(model, state);  // as the run's Stepper would, before its start is measured
   const Energy e0 = measure_energy(model, state.x, state.v);
   r.energy_start = e0.total();
   r.energy_max = r.energy_start;

@@ -14,6 +14,7 @@
 #include "physics/diagnostics.h"
 #include "physics/implicit.h"
 #include "physics/step.h"
+#include "physics/stepper.h"
 #include "test_meshes.h"
 
 namespace tissu {
@@ -348,6 +349,21 @@ TEST(Barrier, SheetLaidOnTheThicknessStartsAtRest) {
       EXPECT_LT(fastest, 1e-6);
     }
   }
+}
+
+// A run's first sample sees the start as the first step takes it: the Stepper places it
+// (prepare_start) before any step, and the first step moves it no further. Placed inside
+// the first step instead, frame 0 showed the sheet on the thickness and frame 1 showed
+// it lifted, a rise of m g dz in the run's energy that no force made.
+TEST(Barrier, StepperPlacesTheStartBeforeTheFirstSample) {
+  Sheet s = sheet_laid_on_a_plane(0.4, 8, 1.0 / 60.0, 0.5);
+  for (Vec3& p : s.state.x) p.z() = kPlaneThickness;
+  Stepper stepper(s.model, s.state);
+  const double dhat = barrier_distance(s.model);
+  for (const Vec3& p : s.state.x) EXPECT_GT(p.z() - kPlaneThickness, 0.1 * dhat);
+  const Vec3List placed = s.state.x;
+  ASSERT_FALSE(stepper.advance(false));
+  for (size_t i = 0; i < placed.size(); ++i) EXPECT_NEAR(s.state.x[i].z(), placed[i].z(), 1e-12) << i;
 }
 
 // The gap d (m) at which the barrier of kappa = m / h^2 holds a vertex's weight m g:
