@@ -58,12 +58,12 @@ Model two_sheets(double w, int n, double z, double gap, Vec3List* x) {
 
 bool crosses(const Model& m, const Vec3List& x) { return self_crossings(x, m.triangles, 1).any(); }
 
-// Two 30 cm sheets 4 cm apart, the lower 3 cm above the ground, falling under gravity
-// with air damping, layers `thickness` (m) apart with friction 0.3, on ground with
+// Two 30 cm sheets `gap` (m) apart, the lower at height z (m) above the ground, under
+// gravity with air damping, layers `thickness` (m) apart with friction 0.3, on ground with
 // friction 0.5, stepped by `integrator` at dt (s) with `contact`.
-Model falling_stack(double thickness, Integrator integrator, double dt, ContactModel contact,
-                    Vec3List* x) {
-  Model m = two_sheets(0.3, 8, 0.03, 0.04, x);
+Model stack_over_ground(double z, double gap, double thickness, Integrator integrator, double dt,
+                        ContactModel contact, Vec3List* x) {
+  Model m = two_sheets(0.3, 8, z, gap, x);
   m.gravity = Vec3(0, 0, -9.81);
   m.air_damping = 0.5;
   m.integrator = integrator;
@@ -74,6 +74,12 @@ Model falling_stack(double thickness, Integrator integrator, double dt, ContactM
   m.self_collision = SelfCollision{thickness, 0.3};
   precompute_rest(m);
   return m;
+}
+
+// The stack 4 cm apart, the lower sheet 3 cm above the ground: it falls onto it.
+Model falling_stack(double thickness, Integrator integrator, double dt, ContactModel contact,
+                    Vec3List* x) {
+  return stack_over_ground(0.03, 0.04, thickness, integrator, dt, contact, x);
 }
 
 TEST(ClothContact, StackedSheetsRestAsTwoLayersSeparatedByTheThickness) {
@@ -174,16 +180,8 @@ TEST(ClothContact, StackedSheetsRestAsTwoLayersImplicitOnAConstrainedGround) {
 void expect_laid_stack_stays(ContactModel contact) {
   constexpr double kThickness = 0.005, kLaid = kThickness + 0.001;  // m
   Vec3List x;
-  Model m = two_sheets(0.3, 8, 0.0, kLaid, &x);
-  m.gravity = Vec3(0, 0, -9.81);
-  m.air_damping = 0.5;
-  m.integrator = Integrator::BackwardEuler;
-  m.dt = 1.0 / 60.0;
-  m.implicit.contact = contact;
-  m.obstacles = {ground()};
-  m.obstacles[0].friction = 0.5;
-  m.self_collision = SelfCollision{kThickness, 0.3};
-  precompute_rest(m);
+  const Model m = stack_over_ground(0.0, kLaid, kThickness, Integrator::BackwardEuler,
+                                    1.0 / 60.0, contact, &x);
   const double dhat = barrier_distance(m);
   State s;
   s.x = x;
@@ -228,21 +226,14 @@ TEST(ClothContact, LayersLaidWithinTheBarrierOpenWithoutCrossing) {
     for (bool hung : {false, true}) {
       SCOPED_TRACE(std::string(contact == ContactModel::Barrier ? "barrier" : "constraints") +
                    (hung ? ", hung under a pinned sheet" : ", three laid"));
-      Vec3List x, top, third;
-      Model m = two_sheets(0.3, 8, hung ? 0.012 : 0.0, kThickness + (hung ? 0.0005 : 0.001), &x);
+      Vec3List x, third;
+      Model m = stack_over_ground(hung ? 0.012 : 0.0, kThickness + (hung ? 0.0005 : 0.001),
+                                  kThickness, Integrator::BackwardEuler, 1.0 / 60.0, contact, &x);
       const int per_sheet = static_cast<int>(x.size()) / 2;
       if (!hung) {
         const Model sheet = testing::grid_model(0.3, 0.3, 8, 8, 0.3, 5, &third);
         append_sheet(m, x, sheet, third, Vec3(-0.01, 0.015, 2 * (kThickness + 0.001)), 20.0);
       }
-      m.gravity = Vec3(0, 0, -9.81);
-      m.air_damping = 0.5;
-      m.integrator = Integrator::BackwardEuler;
-      m.dt = 1.0 / 60.0;
-      m.implicit.contact = contact;
-      m.obstacles = {ground()};
-      m.obstacles[0].friction = 0.5;
-      m.self_collision = SelfCollision{kThickness, 0.3};
       m.pinned.assign(x.size(), 0);
       if (hung) {
         for (int i = per_sheet; i < 2 * per_sheet; ++i) m.pinned[i] = 1;
