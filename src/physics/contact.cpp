@@ -17,6 +17,14 @@ void ContactSet::clear(int num_vertices) {
   }
 }
 
+ConstrainedDirections ContactSet::constrained_at(int vertex) const {
+  const int c = of_vertex_[vertex];
+  if (c < 0) return ConstrainedDirections::None;
+  if (second_of_vertex_[vertex] >= 0) return ConstrainedDirections::TwoNormals;
+  return contacts_[c].mode == ContactMode::Stick ? ConstrainedDirections::All
+                                                 : ConstrainedDirections::Normal;
+}
+
 namespace {
 
 // The coefficients (a, b) of along_two_normals.

@@ -51,6 +51,10 @@ class SystemMatrix;
 
 enum class ContactMode : uint8_t { Stick, Slide };
 
+// What a vertex's contacts constrain: nothing, the normal (sliding), all three directions
+// (sticking), or two normals (a corner).
+enum class ConstrainedDirections : uint8_t { None, Normal, All, TwoNormals };
+
 // Sliding speed below which the friction of a sliding contact falls smoothly to zero, m/s.
 constexpr double kSlidingSpeed = 1e-3;
 // A vertex takes a second contact only where the two normals' cosine is below this (about
@@ -104,6 +108,7 @@ class ContactSet {
   int contact_of(int vertex) const { return of_vertex_[vertex]; }
   // A vertex's second contact, in a corner of two obstacles, or -1.
   int second_contact_of(int vertex) const { return second_of_vertex_[vertex]; }
+  ConstrainedDirections constrained_at(int vertex) const;
 
   // Adds a contact for each free vertex without one whose end position x_end lies closer
   // to an obstacle than its thickness plus `margin` (m), at the obstacle's closest point;

@@ -29,6 +29,8 @@ struct ImplicitSolver {
   CholeskyPreconditioner cholesky;
   ScalarCholeskyPreconditioner scalar;
   bool refactor = false;  // the kept factor has become slow: factorize at the next solve
+  // (V) the directions each vertex's contacts constrained when the kept factor was made.
+  std::vector<ConstrainedDirections> factored_directions;
   CgWorkspace cg;
   Eigen::VectorXd rhs;       // (3V) the Newton right-hand side, kg*m/s
   Eigen::VectorXd dv;        // (3V) Newton direction, m/s
@@ -75,11 +77,14 @@ double processor_seconds_since(std::clock_t t0) {
   return static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
 }
 
-// Cholesky preconditioner: a factorization costs about as much as 20 PCG iterations (5000
-// triangles). A fresh factor needs 1-3 iterations, one kept from earlier steps 5-15 while
-// the cloth moves gently, hundreds once it folds or hits an obstacle. PCG with a kept
-// factor gives up after kStaleFactorCgIterations and refactors; a kept factor that needed
-// more than kRefactorAfter is replaced at the next solve.
+// Cholesky preconditioner: a factorization costs about as much as 10-20 PCG iterations
+// (3000-5000 triangles). A fresh factor needs 1-3 iterations, one kept from earlier steps
+// 5-15 while the cloth moves gently, hundreds once it folds or hits an obstacle. PCG with
+// a kept factor gives up after kStaleFactorCgIterations and refactors; a kept factor that
+// needed more than kRefactorAfter is replaced at the next solve. A kept factor is not
+// tried once a contact was added, released or switched between stick and slide since it
+// was made: it stiffens the directions the contacts constrained then, and with even one
+// or two vertices changed it failed three times in four (docs/implicit.md).
 constexpr int kStaleFactorCgIterations = 20;
 constexpr int kRefactorAfter = 10;
 constexpr int kMaxHalvings = 12;              // line search: smallest step 2^-12
@@ -238,6 +243,16 @@ void constraint_stiffness(const ContactSet& contacts, const BlockSparseMatrix& A
   }
 }
 
+// Whether the contacts constrain the directions they did when the kept factor was made.
+bool same_constrained_directions(const ImplicitSolver& s) {
+  for (size_t i = 0; i < s.factored_directions.size(); ++i) {
+    if (s.factored_directions[i] != s.contacts.constrained_at(static_cast<int>(i))) {
+      return false;
+    }
+  }
+  return true;
+}
+
 // Solves S A S dv = S rhs by PCG from the dv given. With linear_solver cholesky, the
 // factor of an earlier matrix is tried first: when it has not converged within
 // kStaleFactorCgIterations, the current matrix is factorized and PCG goes on from there.
@@ -261,6 +276,10 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
     const std::clock_t t0 = std::clock();
     constraint_stiffness(s.contacts, A, s.additions);
     const bool factorized = compute();
+    s.factored_directions.resize(s.v.size());
+    for (size_t i = 0; i < s.v.size(); ++i) {
+      s.factored_directions[i] = s.contacts.constrained_at(static_cast<int>(i));
+    }
     report.seconds_preconditioner += processor_seconds_since(t0);
     if (factorized) report.factorizations += 1;
     return factorized;
@@ -279,7 +298,7 @@ CgResult linear_solve(const ImplicitOptions& opt, ImplicitSolver& s, int max_cg,
     // layers) converges in one or two iterations.
     const OffPatternBlocks* coupling = s.barrier.coupling();
     if (s.cholesky.valid() && s.cholesky.pattern_id() == A.pattern_id() && !s.refactor &&
-        !coupling) {
+        !coupling && same_constrained_directions(s)) {
       stale = pcg(s.cholesky, kStaleFactorCgIterations);
       if (stale.converged) {
         s.refactor = stale.iterations > kRefactorAfter;
