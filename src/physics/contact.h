@@ -26,9 +26,10 @@
 // After each whole Newton step that changed no contact, a sticking contact whose |J_t|
 // exceeds mu J_n slides and the solve goes on (once per contact and step); before the
 // solve has converged, only one that pushes (J_n > 0). A sliding contact that ends a step
-// using less than half of mu J_n (slower than 0.29 eps) sticks in the next. A new contact on an obstacle with friction starts
-// in the mode Coulomb's law predicts from the velocity it was caught with (sticking when no
-// velocity is given).
+// slower than eps and no faster than the step before, and that no stick let go in this
+// step, sticks in the next (its smoothed friction, below mu J_n, holds its load). A new
+// contact on an obstacle with friction starts in the mode Coulomb's law predicts from the
+// velocity it was caught with (sticking when no velocity is given).
 //
 // A vertex in a corner of two obstacles (a floor and a wall) holds a contact on each, both
 // sliding, kept together: its velocity is constrained along both normals (which must be
