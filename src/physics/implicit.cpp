@@ -84,7 +84,7 @@ double processor_seconds_since(std::clock_t t0) {
 // needed more than kRefactorAfter is replaced at the next solve. A kept factor is not
 // tried once a contact was added, released or switched between stick and slide since it
 // was made: it stiffens the directions the contacts constrained then, and with even one
-// or two vertices changed it failed three times in four (docs/implicit.md).
+// or two vertices changed 44-76% of its tries failed (docs/implicit.md).
 constexpr int kStaleFactorCgIterations = 20;
 constexpr int kRefactorAfter = 10;
 constexpr int kMaxHalvings = 12;              // line search: smallest step 2^-12
