@@ -26,8 +26,11 @@
 // After each whole Newton step that changed no contact, a sticking contact whose |J_t|
 // exceeds mu J_n slides and the solve goes on (once per contact and step); before the
 // solve has converged, only one that pushes (J_n > 0). A sliding contact that ends a step
-// slower than eps and no faster than the step before, and that no stick let go in this
-// step, sticks in the next (its smoothed friction, below mu J_n, holds its load). A new
+// slower than eps and no faster than the step before sticks in the next (its smoothed
+// friction, below mu J_n, holds its load), unless a stick let it go in this step. After
+// the k-th let-go in a row it slides 2^(k-1) - 1 more steps first, at most
+// kSlideStepsAfterLetGo: cloth creeping over a cylinder had its sticks let go and tried
+// again every other step, each time over 15-30 Newton iterations. A new
 // contact on an obstacle with friction starts in the mode Coulomb's law predicts from the
 // velocity it was caught with (sticking when no velocity is given).
 //
@@ -58,6 +61,9 @@ enum class ConstrainedDirections : uint8_t { None, Normal, All, TwoNormals };
 
 // Sliding speed below which the friction of a sliding contact falls smoothly to zero, m/s.
 constexpr double kSlidingSpeed = 1e-3;
+// The most steps a contact that sticks let go again and again slides on before a slow
+// slide sticks it again (the wait doubles with each let-go in a row: 0, 1, 3, 7, 8).
+constexpr int kSlideStepsAfterLetGo = 8;
 // A vertex takes a second contact only where the two normals' cosine is below this (about
 // 8 degrees apart): nearly parallel constraints are nearly one.
 constexpr double kCornerCosine = 0.99;
@@ -180,6 +186,8 @@ class ContactSet {
     double friction_force = 0.0;  // mu J_n / beta while sliding, N
     double sliding_speed = INFINITY;  // m/s at the end of the step, while sliding
     int obstacle = -1;                // the second contact's obstacle
+    int slide_steps_left = 0;         // before a slow slide sticks it again
+    int let_go = 0;                   // sticks let go in a row
   };
   std::vector<Memory> memory_;
   std::vector<Memory> second_memory_;  // (V) of the second contacts, for their obstacle
@@ -189,6 +197,7 @@ class ContactSet {
                    const SurfacePoint& p, const Vec3List& x_end, const Memory& last,
                    const Vec3List* velocities, double beta);
   std::vector<double> last_sliding_speed_;  // remember's scratch
+  std::vector<int> last_slide_steps_left_, last_let_go_;  // remember's scratch
   // Calls visit(c, second) once for each vertex in contact: its (first) contact c and its
   // second contact, or null.
   template <typename Visit>
