@@ -344,28 +344,29 @@ int ContactSet::switch_modes(bool converged) {
   return switched;
 }
 
+namespace {
+
+// The steps a contact slides after its k-th stick let go in a row before a slow slide
+// sticks it again: 2^(k-1) - 1, at most kSlideStepsAfterLetGo.
+int slide_steps_after_let_go(int k) {
+  int steps = 0;
+  for (int i = 1; i < k && steps < kSlideStepsAfterLetGo; ++i) steps = 2 * steps + 1;
+  return std::min(steps, kSlideStepsAfterLetGo);
+}
+
+}  // namespace
+
 void ContactSet::remember(const Vec3List& v, const std::vector<double>& release, double beta) {
-  std::vector<double>& last_speed = last_sliding_speed_;  // m/s, per vertex and contact
-  std::vector<int>& last_left = last_slide_steps_left_;   // per vertex and contact
-  std::vector<int>& last_let_go = last_let_go_;           // per vertex and contact
-  const size_t n = memory_.size();
-  last_speed.resize(2 * n);
-  last_left.resize(2 * n);
-  last_let_go.resize(2 * n);
-  for (size_t i = 0; i < n; ++i) {
-    last_speed[i] = memory_[i].sliding_speed;
-    last_speed[n + i] = second_memory_[i].sliding_speed;
-    last_left[i] = memory_[i].slide_steps_left;
-    last_left[n + i] = second_memory_[i].slide_steps_left;
-    last_let_go[i] = memory_[i].let_go;
-    last_let_go[n + i] = second_memory_[i].let_go;
-  }
-  for (Memory& m : memory_) m = Memory{};
-  for (Memory& m : second_memory_) m = Memory{};
+  // The memories of the step that ends become the last ones, and are made anew.
+  last_memory_.swap(memory_);
+  last_second_memory_.swap(second_memory_);
+  memory_.assign(last_memory_.size(), Memory{});
+  second_memory_.assign(last_second_memory_.size(), Memory{});
   for (size_t k = 0; k < contacts_.size(); ++k) {
     const VertexContact& c = contacts_[k];
     const bool second = second_of_vertex_[c.vertex] == static_cast<int>(k);
     Memory& m = second ? second_memory_[c.vertex] : memory_[c.vertex];
+    const Memory& last = second ? last_second_memory_[c.vertex] : last_memory_[c.vertex];
     if (second) m.obstacle = c.obstacle;
     if (c.pull > release[c.vertex]) {
       m.released = true;
@@ -374,19 +375,17 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release,
     m.in_contact = true;
     if (c.mode != ContactMode::Slide) continue;
     // A sliding contact slides on while it is fast (its friction at full strength, mu J_n),
-    // gaining speed, or let go by a stick that needed more than mu J_n in this step or in
-    // the kSlideStepsAfterLetGo before. Otherwise its smoothed friction, less than mu J_n,
-    // holds the load: Coulomb's law sticks it, where sliding on would creep at that speed
-    // forever (a sheet on an incline with friction above tan(a)). A margin of a hundredth
-    // of that speed per step keeps rounding from reading as a gain.
+    // gaining speed, or let go by a stick that needed more than mu J_n in this step or
+    // still waiting after such a let-go (slide_steps_after_let_go). Otherwise its smoothed
+    // friction, less than mu J_n, holds the load: Coulomb's law sticks it, where sliding on
+    // would creep at that speed forever (a sheet on an incline with friction above tan(a)).
+    // A margin of a hundredth of that speed per step keeps rounding from reading as a gain.
     const double speed = c.friction == 0.0 ? INFINITY : friction_of(c).sliding(v[c.vertex]).norm();
-    const size_t slot = (second ? n : 0) + c.vertex;
-    const bool gaining = speed > last_speed[slot] + 0.01 * kSlidingSpeed;
-    m.let_go = c.switched ? last_let_go[slot] + 1 : last_let_go[slot];
-    m.slide_steps_left = c.switched ? std::min((1 << std::min(m.let_go - 1, 4)) - 1,
-                                               kSlideStepsAfterLetGo)
-                                    : std::max(0, last_left[slot] - 1);
-    if (speed >= kSlidingSpeed || gaining || c.switched || last_left[slot] > 0) {
+    const bool gaining = speed > last.sliding_speed + 0.01 * kSlidingSpeed;
+    m.let_go = c.switched ? last.let_go + 1 : last.let_go;
+    m.slide_steps_left = c.switched ? slide_steps_after_let_go(m.let_go)
+                                    : std::max(0, last.slide_steps_left - 1);
+    if (speed >= kSlidingSpeed || gaining || c.switched || last.slide_steps_left > 0) {
       m.mode = ContactMode::Slide;
       m.friction_force = c.friction * c.normal_impulse / beta;
       m.sliding_speed = speed;

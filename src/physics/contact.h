@@ -196,8 +196,8 @@ class ContactSet {
   void add_contact(const Model& model, const PlacedObstacle& placed, int o, int i,
                    const SurfacePoint& p, const Vec3List& x_end, const Memory& last,
                    const Vec3List* velocities, double beta);
-  std::vector<double> last_sliding_speed_;  // remember's scratch
-  std::vector<int> last_slide_steps_left_, last_let_go_;  // remember's scratch
+  // (V) the memories remember replaced, which it reads; then its scratch.
+  std::vector<Memory> last_memory_, last_second_memory_;
   // Calls visit(c, second) once for each vertex in contact: its (first) contact c and its
   // second contact, or null.
   template <typename Visit>
