@@ -50,6 +50,13 @@ double pair_stiffness(const Model& model, const PairGap& g, double dt) {
   return free > 0 ? barrier_stiffness(mass / free, dt) : 0.0;
 }
 
+bool has_mesh_obstacle(const Model& model) {
+  for (const Obstacle& ob : model.obstacles) {
+    if (ob.kind == ObstacleKind::Mesh) return true;
+  }
+  return false;
+}
+
 // Times make_feasible draws the guess back before it gives up on the mesh feature pairs
 // (each round stops short of the first touch, so one usually suffices).
 constexpr int kFeasibleRounds = 4;
@@ -195,7 +202,7 @@ double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u)
 void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3List& x_end_base,
                            double beta, double beta_end, double t, double t_end) {
   const bool obstacles = model.implicit.contact == ContactModel::Barrier;
-  enabled_ = obstacles || model.self_collision.has_value();
+  enabled_ = obstacles || model.self_collision.has_value() || has_mesh_obstacle(model);
   takes_obstacles_ = obstacles;
   placed_.clear();
   placed_start_.clear();
@@ -213,11 +220,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   kappa_.resize(n);
   stiffness_dt_ = stiffness_step(model);
   for (int i = 0; i < n; ++i) kappa_[i] = barrier_stiffness(model.mass[i], stiffness_dt_);
-  if (obstacles) {
-    features_.begin(model, t, t_end);
-  } else {
-    features_.end();
-  }
+  features_.begin(model, t, t_end);
   self_.begin(model);
   coupling_.clear();
   pair_friction_.clear();
@@ -250,7 +253,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
                                               ob.friction * normal_impulse}});
     }
   }
-  if (placed_.empty() && !self_.active()) enabled_ = false;
+  if (placed_.empty() && !has_pairs()) enabled_ = false;
 }
 
 double holding_gap(double force, double dhat, double kappa) {
@@ -658,7 +661,7 @@ int BarrierContact::active(const Vec3List& v, double* smallest_gap, int* pairs) 
 
 double BarrierContact::energy_of(const Model& model, const Vec3List& x, double t) {
   const bool obstacles = model.implicit.contact == ContactModel::Barrier;
-  if (!obstacles && !model.self_collision) return 0.0;
+  if (!obstacles && !model.self_collision && !has_mesh_obstacle(model)) return 0.0;
   const double dhat = barrier_distance(model), dt = stiffness_step(model);
   double total = 0.0;
   for (const Obstacle& ob : model.obstacles) {
@@ -673,8 +676,8 @@ double BarrierContact::energy_of(const Model& model, const Vec3List& x, double t
   const auto add_pair = [&](const PairGap& g) {
     total += barrier_energy(g.d, dhat, pair_stiffness(model, g, dt));
   };
-  if (obstacles) energy_features_.begin(model, t, t);
-  if (obstacles && energy_features_.active()) {
+  energy_features_.begin(model, t, t);
+  if (energy_features_.active()) {
     energy_features_.find_pairs(x, x, dhat);
     energy_features_.for_each_gap(x, add_pair);
   }

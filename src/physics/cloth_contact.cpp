@@ -12,6 +12,7 @@
 #include "collision/ccd.h"
 #include "collision/closed_surface.h"
 #include "collision/primitive_distance.h"
+#include "physics/mesh_barrier.h"
 #include "physics/step_scratch.h"
 
 namespace tissu {
@@ -495,7 +496,11 @@ void ClothContact::Impl::rebuild() {
     }
     f.margin = motion > 0.0 ? std::clamp(kRegionSteps * motion, margin_min, margin_max) : 0.0;
     f.moved = motion;  // measured from this build
-    add_mesh_pairs(f, m.obstacles[f.obstacle].thickness);
+    // An implicit solve holds the cloth off the mesh's corners and edges itself, past
+    // feature_thickness: the stage keeps that layer, not a thicker one the solve lets
+    // edges into.
+    const Obstacle& ob = m.obstacles[f.obstacle];
+    add_mesh_pairs(f, is_explicit(m.integrator) ? ob.thickness : feature_thickness(m, ob));
   }
   watches.resize(pairs.size());
   for (size_t k = 0; k < pairs.size(); ++k) {

@@ -41,6 +41,11 @@ double least_bend(double longest, double thickness) {
 
 }  // namespace
 
+double feature_thickness(const Model& model, const Obstacle& obstacle) {
+  const bool constrained = model.implicit.contact == ContactModel::Constraints;
+  return constrained ? 0.5 * obstacle.thickness : obstacle.thickness;
+}
+
 MeshFeatureBarrier::MeshFeatureBarrier() = default;
 MeshFeatureBarrier::~MeshFeatureBarrier() = default;
 
@@ -119,7 +124,7 @@ void MeshFeatureBarrier::begin(const Model& model, double t, double t_end) {
     const Features& f = features_of(ob.surface, least_bend(longest_edge_, ob.thickness));
     if (f.vertices.empty()) continue;
     placed_.push_back({&f, ob.center, ob.center_at(t_end), ob.rotation(t_end), ob.center_at(t),
-                       ob.rotation(t), ob.thickness});
+                       ob.rotation(t), feature_thickness(model, ob)});
   }
 }
 

@@ -17,7 +17,9 @@
 // whose ends keep the thickness through the surface. Several in a row can (a curved part
 // sags by about L^2 / 8R under a cloth edge, R its radius); there only the vertices' gaps
 // and the collision stage after the solve keep the cloth out.
-// The cloth's vertices against the mesh's surface are BarrierContact's vertex gaps.
+// The cloth's vertices against the mesh's surface are BarrierContact's vertex gaps, or under
+// the constraints model (model.implicit.contact) the solve's constraints, which hold them at
+// T: the pairs then take a thinner layer (feature_thickness).
 // Tested in tests/physics/mesh_barrier_test.cpp.
 #pragma once
 
@@ -36,6 +38,14 @@ namespace tissu {
 
 class ClosedSurface;
 
+// The thickness (m) past which a mesh obstacle's corners and edges meet the cloth in an
+// implicit step: the obstacle's own T under the barrier model, T / 2 under the constraints.
+// These hold the cloth's vertices at T exactly, so a sheet lying flat across a box's edge
+// is at T from it, and a cloth edge between two vertices held at T around a convex edge
+// passes closer than T (a chord of the rounded layer): a barrier past T would hold such
+// edges where they are, and a sheet could not slide over the edge.
+double feature_thickness(const Model& model, const Obstacle& obstacle);
+
 class MeshFeatureBarrier {
  public:
   MeshFeatureBarrier();
@@ -43,7 +53,7 @@ class MeshFeatureBarrier {
 
   // The model's mesh obstacles placed at the step's start t and end t_end (s); their convex
   // features are found once per surface. Clears the pairs. The pairs' gaps are taken with
-  // the obstacles at t_end.
+  // the obstacles at t_end, past feature_thickness.
   void begin(const Model& model, double t, double t_end);
   // No obstacles and no pairs until the next begin.
   void end() {
@@ -91,7 +101,7 @@ class MeshFeatureBarrier {
     Mat3 rotation = Mat3::Identity();
     Vec3 start_center = Vec3::Zero();  // at t, m
     Mat3 start_rotation = Mat3::Identity();
-    double thickness = 0.0;  // m
+    double thickness = 0.0;  // m, feature_thickness
     // p (world, m) in the surface's frame with the obstacle at t_end, or at t.
     Vec3 local(const Vec3& p) const { return rest_center + rotation.transpose() * (p - center); }
     Vec3 local_at_start(const Vec3& p) const {

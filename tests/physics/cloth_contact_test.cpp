@@ -803,10 +803,12 @@ double sheet_on_rising_box(double speed, ContactModel contact = ContactModel::Co
 // The stage's energy rule once stayed off while any obstacle moved: a sheet on a box
 // rising at 1 cm/s stretched by 70% and one at 10 cm/s diverged, where the still box
 // stretches it by 0.6%. The rule now allows what the moving box's contacts can supply
-// (0.9% and 0.8%).
+// (0.9% and 0.8%). Since the box's corners and edges meet the cloth inside the solve
+// (mesh_barrier.h) the sheet stretches by 1.1%, 0.9% and 1.6%; symplectic Euler at 5e-5 s
+// stretches it by 1.2%, 1.5% and 1.6% (largest strain at the 1/60 s frames).
 TEST(ClothContact, SheetOnARisingMeshBoxStretchesAsOnAStillOneImplicit) {
   const double still = sheet_on_rising_box(0.0);
-  EXPECT_LT(still, 0.01);
+  EXPECT_LT(still, 0.02);
   for (const double speed : {0.01, 0.1}) {
     EXPECT_LT(sheet_on_rising_box(speed), still + 0.01) << speed << " m/s";
   }

@@ -213,10 +213,12 @@ TEST(MeshBarrier, ImpulsesMatchFiniteDifferencesOfThePotential) {
 // check) and no vertex is inside, and the barrier holds the box's edges by itself: the
 // collision stage after the solve finds nothing to correct. Without the corner and edge
 // pairs, the box's edges come within the thickness of the cloth's triangles between their
-// vertices, and the stage pushes them off at every step.
-TEST(MeshBarrier, SheetDroppedOnAMeshBoxIsNeverCutByItsEdges) {
+// vertices, and the stage pushes them off at every step (8,772 corrections in these 45
+// steps under the constraints model, before its solve took the pairs). Under the
+// constraints the vertices rest on the faces at the thickness, to rounding.
+void expect_sheet_on_box_never_cut(ContactModel contact) {
   testing::Sheet s = testing::cotton_sheet(0.5, 10, Integrator::BackwardEuler, 1.0 / 60.0);
-  s.model.implicit.contact = ContactModel::Barrier;
+  s.model.implicit.contact = contact;
   s.model.obstacles.push_back(box_obstacle());
   for (Vec3& p : s.state.x) p.z() = kThickness + 0.005;
   const testing::SurfaceData box = testing::box_surface(kLow, kHigh);
@@ -238,13 +240,21 @@ TEST(MeshBarrier, SheetDroppedOnAMeshBoxIsNeverCutByItsEdges) {
   }
   std::printf("  closest vertex %.3g m from the box, largest strain %.3g, %d stage corrections\n",
               lowest_gap, strain, corrections);
-  EXPECT_GT(lowest_gap, kThickness);
+  EXPECT_GT(lowest_gap, kThickness - (contact == ContactModel::Constraints ? 1e-9 : 0.0));
   EXPECT_EQ(corrections, 0);
   // The sheet hangs over the edges: its corners fall well below the top face.
   double bottom = INFINITY;
   for (const Vec3& p : s.state.x) bottom = std::min(bottom, p.z());
   EXPECT_LT(bottom, -0.05);
   EXPECT_LT(strain, 0.05);
+}
+
+TEST(MeshBarrier, SheetDroppedOnAMeshBoxIsNeverCutByItsEdges) {
+  expect_sheet_on_box_never_cut(ContactModel::Barrier);
+}
+
+TEST(MeshBarrier, SheetDroppedOnAMeshBoxIsNeverCutByItsEdgesWithTheConstraints) {
+  expect_sheet_on_box_never_cut(ContactModel::Constraints);
 }
 
 }  // namespace
