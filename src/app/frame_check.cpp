@@ -38,6 +38,7 @@ CheckSummary summarize_checks(const std::vector<FrameCheck>& checks) {
   for (const FrameCheck& c : checks) {
     if (c.clean()) continue;
     ++summary.frames_with_crossings;
+    if (c.obstacle_pairs > 0) ++summary.frames_with_obstacle_crossings;
     if (!summary.first) summary.first = &c;
   }
   return summary;

@@ -25,6 +25,7 @@ FrameCheck check_frame(const Model& model, const State& state);
 // What the checks of a run found: the frames with crossings, and the first of them.
 struct CheckSummary {
   std::size_t frames_with_crossings = 0;
+  std::size_t frames_with_obstacle_crossings = 0;  // of those, frames where cloth crosses a mesh
   const FrameCheck* first = nullptr;  // into the checks; nullptr when every frame is clean
 };
 CheckSummary summarize_checks(const std::vector<FrameCheck>& checks);

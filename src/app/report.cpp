@@ -99,7 +99,9 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
     const CheckSummary summary = summarize_checks(result.checks);
     const FrameCheck* first = summary.first;
     nlohmann::ordered_json check = {{"frames_checked", result.checks.size()},
-                                    {"frames_with_crossings", summary.frames_with_crossings}};
+                                    {"frames_with_crossings", summary.frames_with_crossings},
+                                    {"frames_with_obstacle_crossings",
+                                     summary.frames_with_obstacle_crossings}};
     check["first"] = first ? nlohmann::ordered_json{{"step", first->step},
                                                     {"time", first->time},
                                                     {"cloth_pairs", first->cloth_pairs},
@@ -118,6 +120,7 @@ nlohmann::ordered_json make_report(const Scene& scene, const Model& model, const
     nlohmann::ordered_json row = frame_row(result.frames[i]);
     if (i < result.checks.size()) {
       row["crossings"] = result.checks[i].cloth_pairs + result.checks[i].obstacle_pairs;
+      row["obstacle_crossings"] = result.checks[i].obstacle_pairs;
     }
     rows.push_back(row);
   }

@@ -53,7 +53,8 @@ void print_summary(const Scene& scene, const RunResult& result, long long max_fr
     const FrameCheck* first = summary.first;
     std::cerr << "tissu: " << scene.name << ": check: " << summary.frames_with_crossings << " of "
               << result.checks.size()
-              << " frames have crossing triangles";
+              << " frames have crossing triangles (" << summary.frames_with_obstacle_crossings
+              << " with a mesh obstacle)";
     if (first) std::cerr << "; first at step " << first->step << " (t = " << first->time << " s): " << first->first;
     std::cerr << "\n";
   }

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "app/frame_check.h"
 #include "app/run_loop.h"
 #include "scene/scene.h"
 
@@ -51,6 +52,20 @@ void expect_clean(const RunResult& r) {
   EXPECT_EQ(r.totals.contact_unresolved, 0);
   EXPECT_GT(r.totals.contact_proximities + r.totals.barrier_pairs, 1000)
       << "the cloth must have met itself or the obstacle";
+}
+
+// The summary tells the frames where the cloth crosses a mesh obstacle from those where it
+// only crosses itself (which a scene without self_collision allows).
+TEST(ContactScenes, CheckSummaryCountsFramesCrossingAnObstacleApart) {
+  std::vector<FrameCheck> checks(4);
+  checks[1].cloth_pairs = 2;
+  checks[2].cloth_pairs = 1;
+  checks[2].obstacle_pairs = 3;
+  checks[3].obstacle_pairs = 1;
+  const CheckSummary summary = summarize_checks(checks);
+  EXPECT_EQ(summary.frames_with_crossings, 3u);
+  EXPECT_EQ(summary.frames_with_obstacle_crossings, 2u);
+  EXPECT_EQ(summary.first, &checks[1]);
 }
 
 TEST(ContactScenes, FoldHasNoCrossingInAnyFrame) {
