@@ -127,9 +127,9 @@ class BarrierContact {
   // placed at t_end, and the lagged friction of every vertex within dhat of an obstacle
   // with friction at x_n (normal impulse beta |b'(d)|). With the constraints model
   // (model.implicit.contact) it takes only the cloth against itself, where the scene
-  // declares self_collision (obstacles are then the solve's constraints, and a mesh's
-  // corners and edges the collision stage's); otherwise it clears itself and every call
-  // below does nothing.
+  // declares self_collision, and a mesh obstacle's corners and edges past
+  // feature_thickness (the cloth's vertices against the obstacles are then the solve's
+  // constraints); with neither it clears itself and every call below does nothing.
   void begin(const Model& model, const Vec3List& x_n, const Vec3List& x_end_base,
              double beta, double beta_end, double t, double t_end);
   bool enabled() const { return enabled_; }
