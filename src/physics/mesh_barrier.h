@@ -55,11 +55,6 @@ class MeshFeatureBarrier {
   // features are found once per surface. Clears the pairs. The pairs' gaps are taken with
   // the obstacles at t_end, past feature_thickness.
   void begin(const Model& model, double t, double t_end);
-  // No obstacles and no pairs until the next begin.
-  void end() {
-    placed_.clear();
-    pairs_.clear();
-  }
   // Whether the model has a mesh obstacle.
   bool active() const { return !placed_.empty(); }
 
