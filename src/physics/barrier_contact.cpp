@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "physics/cloth_contact.h"
 #include "physics/system_matrix.h"
 
 namespace tissu {
@@ -48,13 +49,6 @@ double pair_stiffness(const Model& model, const PairGap& g, double dt) {
     ++free;
   }
   return free > 0 ? barrier_stiffness(mass / free, dt) : 0.0;
-}
-
-bool has_mesh_obstacle(const Model& model) {
-  for (const Obstacle& ob : model.obstacles) {
-    if (ob.kind == ObstacleKind::Mesh) return true;
-  }
-  return false;
 }
 
 // Times make_feasible draws the guess back before it gives up on the mesh feature pairs
@@ -202,7 +196,9 @@ double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u)
 void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3List& x_end_base,
                            double beta, double beta_end, double t, double t_end) {
   const bool obstacles = model.implicit.contact == ContactModel::Barrier;
-  enabled_ = obstacles || model.self_collision.has_value() || has_mesh_obstacle(model);
+  // Under either model it takes what the collision stage handles: the cloth against itself
+  // and a mesh's corners and edges.
+  enabled_ = obstacles || needs_cloth_contact(model);
   takes_obstacles_ = obstacles;
   placed_.clear();
   placed_start_.clear();
@@ -661,7 +657,7 @@ int BarrierContact::active(const Vec3List& v, double* smallest_gap, int* pairs) 
 
 double BarrierContact::energy_of(const Model& model, const Vec3List& x, double t) {
   const bool obstacles = model.implicit.contact == ContactModel::Barrier;
-  if (!obstacles && !model.self_collision && !has_mesh_obstacle(model)) return 0.0;
+  if (!obstacles && !needs_cloth_contact(model)) return 0.0;
   const double dhat = barrier_distance(model), dt = stiffness_step(model);
   double total = 0.0;
   for (const Obstacle& ob : model.obstacles) {
