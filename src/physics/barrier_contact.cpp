@@ -227,7 +227,8 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
     self_.for_each_gap(x_n, [&](const PairGap& g) {
       if (g.d <= 0.0 || g.d >= dhat_) return;
       const double kappa = pair_stiffness(model, g, stiffness_step(model));
-      const double normal_impulse = -beta_ * barrier_derivative(g.d, dhat_, kappa);  // kg*m/s
+      const double normal_impulse =
+          -beta_ * edge_mollifier(g) * barrier_derivative(g.d, dhat_, kappa);  // kg*m/s
       pair_friction_.push_back({g, SlidingFriction{g.normal, Vec3::Zero(), mu * normal_impulse}});
     });
   }
@@ -514,7 +515,7 @@ double BarrierContact::potential(const Vec3List& v) const {
   }
   if (has_pairs()) {
     for_each_pair(end_positions(v), [&](const PairGap& g, double kappa) {
-      total += barrier_energy(g.d, dhat_, kappa);
+      total += edge_mollifier(g) * barrier_energy(g.d, dhat_, kappa);
     });
   }
   total *= beta_ / beta_end_;
@@ -553,6 +554,15 @@ void BarrierContact::add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const
     for_each_pair(end_positions(v), [&](const PairGap& g, double kappa) {
       if (g.d <= 0.0 || g.d >= dhat_) return;
       const double slope = barrier_derivative(g.d, dhat_, kappa);  // N
+      if (is_mollified(g)) {
+        const PairVector gradient =
+            mollified_gradient(g, barrier_energy(g.d, dhat_, kappa), slope);  // N
+        for (int k = 0; k < g.count; ++k) {
+          if (model_->pinned[g.vertices[k]]) continue;
+          rhs.segment<3>(3 * g.vertices[k]) -= beta_ * gradient.segment<3>(3 * k);
+        }
+        return;
+      }
       for (int k = 0; k < g.count; ++k) {
         if (model_->pinned[g.vertices[k]]) continue;
         rhs.segment<3>(3 * g.vertices[k]) -= (beta_ * slope * g.weights[k]) * g.normal;
@@ -588,7 +598,8 @@ void BarrierContact::add_hessian(const Vec3List& v, SystemMatrix& system) {
       bool fixed[4] = {false, false, false, false};
       for (int k = 0; k < g.count; ++k) fixed[k] = model_->pinned[g.vertices[k]];
       const double slope = scale * barrier_derivative(g.d, dhat_, kappa);  // N*s^2
-      add_pair_hessian(g, gap_function_hessian(g, slope, curvature, true, fixed), system);
+      const double value = scale * barrier_energy(g.d, dhat_, kappa);      // J*s^2
+      add_pair_hessian(g, mollified_hessian(g, value, slope, curvature, true, fixed), system);
     });
   }
   for (const PairFriction& f : pair_friction_) {
@@ -670,7 +681,7 @@ double BarrierContact::energy_of(const Model& model, const Vec3List& x, double t
     }
   }
   const auto add_pair = [&](const PairGap& g) {
-    total += barrier_energy(g.d, dhat, pair_stiffness(model, g, dt));
+    total += edge_mollifier(g) * barrier_energy(g.d, dhat, pair_stiffness(model, g, dt));
   };
   energy_features_.begin(model, t, t);
   if (energy_features_.active()) {

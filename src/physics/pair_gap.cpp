@@ -118,4 +118,96 @@ PairMatrix gap_function_hessian(const PairGap& g, double slope, double curvature
   return e * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * e.transpose();
 }
 
+namespace {
+
+// c = |e0 x e1|^2 (m^4) with its gradient and second derivative in the four vertices,
+// where e0 = p1 - p0 and e1 = p3 - p2.
+struct CrossSquared {
+  double c = 0.0;
+  PairVector gradient;
+  PairMatrix hessian;
+};
+
+CrossSquared cross_squared(const PairGap& g) {
+  const Vec3& a = g.edges[0];
+  const Vec3& b = g.edges[1];
+  const double aa = a.squaredNorm(), bb = b.squaredNorm(), ab = a.dot(b);
+  const Mat3 identity = Mat3::Identity();
+  // In (e0, e1): c = |a|^2 |b|^2 - (a . b)^2.
+  Eigen::Matrix<double, 6, 1> g6;
+  g6 << 2.0 * (bb * a - ab * b), 2.0 * (aa * b - ab * a);
+  Eigen::Matrix<double, 6, 6> h6;
+  h6.topLeftCorner<3, 3>() = 2.0 * (bb * identity - b * b.transpose());
+  h6.bottomRightCorner<3, 3>() = 2.0 * (aa * identity - a * a.transpose());
+  h6.topRightCorner<3, 3>() =
+      4.0 * a * b.transpose() - 2.0 * b * a.transpose() - 2.0 * ab * identity;
+  h6.bottomLeftCorner<3, 3>() = h6.topRightCorner<3, 3>().transpose();
+  // (e0, e1) = S p with S = [[-I, I, 0, 0], [0, 0, -I, I]].
+  Eigen::Matrix<double, 6, 12> select = Eigen::Matrix<double, 6, 12>::Zero();
+  select.block<3, 3>(0, 0) = -identity;
+  select.block<3, 3>(0, 3) = identity;
+  select.block<3, 3>(3, 6) = -identity;
+  select.block<3, 3>(3, 9) = identity;
+  CrossSquared out;
+  out.c = a.cross(b).squaredNorm();
+  out.gradient = select.transpose() * g6;
+  out.hessian = select.transpose() * h6 * select;
+  return out;
+}
+
+PairVector gap_gradient(const PairGap& g) {
+  PairVector out = PairVector::Zero();
+  for (int k = 0; k < g.count; ++k) out.segment<3>(3 * k) = g.weights[k] * g.normal;
+  return out;
+}
+
+}  // namespace
+
+double edge_mollifier(const PairGap& g) {
+  if (!is_mollified(g)) return 1.0;
+  const double r = g.edges[0].cross(g.edges[1]).squaredNorm() / g.cross_limit;
+  return r * (2.0 - r);
+}
+
+bool is_mollified(const PairGap& g) {
+  return g.cross_limit > 0.0 && g.edges[0].cross(g.edges[1]).squaredNorm() < g.cross_limit;
+}
+
+PairVector mollified_gradient(const PairGap& g, double value, double slope) {
+  if (!is_mollified(g)) return slope * gap_gradient(g);
+  const CrossSquared c = cross_squared(g);
+  const double r = c.c / g.cross_limit;
+  const double m = r * (2.0 - r), dm = (2.0 - 2.0 * r) / g.cross_limit;  // 1, m^-4
+  return m * slope * gap_gradient(g) + value * dm * c.gradient;
+}
+
+PairMatrix mollified_hessian(const PairGap& g, double value, double slope, double curvature,
+                             bool psd, const bool* fixed) {
+  if (!is_mollified(g)) return gap_function_hessian(g, slope, curvature, psd, fixed);
+  const CrossSquared c = cross_squared(g);
+  const double eps = g.cross_limit;
+  const double r = c.c / eps;
+  const double m = r * (2.0 - r), dm = (2.0 - 2.0 * r) / eps, ddm = -2.0 / (eps * eps);
+  const PairVector grad_m = dm * c.gradient;
+  const PairVector grad_gap = gap_gradient(g);
+  // m f'' grad grad^T + m f' Hess gap + f Hess m + f' (grad m grad^T + grad grad m^T).
+  PairMatrix h = m * gap_function_hessian(g, slope, curvature, false) +
+                 value * (ddm * c.gradient * c.gradient.transpose() + dm * c.hessian) +
+                 slope * (grad_m * grad_gap.transpose() + grad_gap * grad_m.transpose());
+  const auto zero_fixed = [&](PairMatrix& matrix) {
+    for (int k = 0; fixed && k < g.count; ++k) {
+      if (!fixed[k]) continue;
+      matrix.middleRows<3>(3 * k).setZero();
+      matrix.middleCols<3>(3 * k).setZero();
+    }
+  };
+  zero_fixed(h);
+  if (!psd) return h;
+  const Eigen::SelfAdjointEigenSolver<PairMatrix> eig(h);
+  PairMatrix projected = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
+                         eig.eigenvectors().transpose();
+  zero_fixed(projected);  // rounding of the decomposition
+  return projected;
+}
+
 }  // namespace tissu

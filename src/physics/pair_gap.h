@@ -40,6 +40,10 @@ struct PairGap {
   int params = 0;
   Vec3 tangents[2] = {Vec3::Zero(), Vec3::Zero()};
   double weight_slopes[2][4] = {{0.0, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
+  // Edge-edge pairs between pieces of cloth: the edges p1 - p0 and p3 - p2 (m) and the
+  // mollifier's threshold eps_x = 1e-3 |e0|^2 |e1|^2 at rest (m^4); 0 for other pairs.
+  Vec3 edges[2] = {Vec3::Zero(), Vec3::Zero()};
+  double cross_limit = 0.0;
 
   // The free parameters of a closest point on segment (p0, p1) at s, whose weights
   // (1 - s, s) times sign sit at weights[first], weights[first + 1].
@@ -52,6 +56,7 @@ struct PairGap {
 
 // Over the 3 count coordinates of the pair's vertices (the rest zero).
 using PairMatrix = Eigen::Matrix<double, 12, 12>;
+using PairVector = Eigen::Matrix<double, 12, 1>;
 
 // The second derivative of a function of the gap, f(gap), in the pair's vertices:
 //   f'' grad grad^T + f' Hess gap,   slope f' and curvature f'' at g.d
@@ -63,5 +68,23 @@ using PairMatrix = Eigen::Matrix<double, 12, 12>;
 // most five vectors, where the projection is taken.
 PairMatrix gap_function_hessian(const PairGap& g, double slope, double curvature, bool psd,
                                 const bool* fixed = nullptr);
+
+// IPC's mollifier of an edge-edge pair (Li et al. 2020): with c = |e0 x e1|^2 (m^4),
+//   m(c) = (c / eps_x) (2 - c / eps_x) below eps_x, 1 from eps_x on.
+// Where two edges turn parallel their closest points jump along them and the gap's
+// gradient with them; the pair's barrier m(c) b(gap) goes smoothly to zero there instead
+// (the point-triangle pairs of the same edges' triangles hold them apart). 1 for a pair
+// without a threshold.
+double edge_mollifier(const PairGap& g);
+// Whether g's barrier is mollified: an edge-edge pair with c < eps_x.
+bool is_mollified(const PairGap& g);
+
+// The gradient and second derivative of m(c) f(gap) in the pair's vertices, for f, its
+// slope f' and curvature f'' at g.d (a barrier's J, N and N/m): exact, or (psd) projected
+// to positive semi-definite, with the rows and columns of vertices marked in `fixed` (may
+// be null) zero.
+PairVector mollified_gradient(const PairGap& g, double value, double slope);
+PairMatrix mollified_hessian(const PairGap& g, double value, double slope, double curvature,
+                             bool psd, const bool* fixed = nullptr);
 
 }  // namespace tissu

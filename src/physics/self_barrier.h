@@ -3,7 +3,9 @@
 // pieces of the cloth that share no vertex,
 //   gap = distance between a vertex and a triangle, or two edges - the self-collision
 //         thickness T (m),
-// under the vertex barrier's b(d), dhat and kappa (the mean of the pair's free vertices').
+// under the vertex barrier's b(d), dhat and kappa (the mean of the pair's free vertices'),
+// an edge-edge pair's barrier times IPC's mollifier where its edges lie nearly parallel
+// (edge_mollifier, pair_gap.h).
 // By the closest points, d gap / d x_k = w_k n (PairGap), n the unit direction from the
 // second piece to the first; the Hessian is b'' grad grad^T + b' Hess gap (pair_gap.h),
 // projected to positive semi-definite, as in IPC. Its blocks between the two pieces lie

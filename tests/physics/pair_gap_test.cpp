@@ -20,17 +20,24 @@ namespace {
 
 constexpr double kThickness = 0.003;  // m
 
-// Two separate triangles, only for the self barrier's thickness and ids 0-3.
-Model two_pieces() {
+// Two separate triangles with these rest coordinates (m), only for the self barrier's
+// thickness and ids 0-3.
+Model two_pieces(const Vec2List& rest_uv, const std::vector<Tri>& triangles) {
   Model m;
-  m.rest_uv = {Vec2(0, 0), Vec2(0.1, 0), Vec2(0, 0.1), Vec2(1, 0), Vec2(1.02, 0), Vec2(1, 0.02)};
-  m.triangles = {Tri(0, 1, 2), Tri(3, 4, 5)};
+  m.rest_uv = rest_uv;
+  m.triangles = triangles;
   m.material = *material_preset("cotton");
   m.dt = 1.0 / 60.0;
   m.implicit.contact = ContactModel::Barrier;
   m.self_collision = SelfCollision{kThickness, 0.0};
   precompute_rest(m);
   return m;
+}
+
+Model two_pieces() {
+  return two_pieces(
+      {Vec2(0, 0), Vec2(0.1, 0), Vec2(0, 0.1), Vec2(1, 0), Vec2(1.02, 0), Vec2(1, 0.02)},
+      {Tri(0, 1, 2), Tri(3, 4, 5)});
 }
 
 // The nearest positive semi-definite matrix, by the full eigen-decomposition.
@@ -173,6 +180,138 @@ TEST(PairGap, ProjectionInFiveVectorsIsTheFullOne) {
           << "trial " << trial << (edge_edge ? " edge-edge" : " point-triangle");
     }
   }
+}
+
+// Two pieces whose edges 0-1 and 2-3 are both 2 cm long at rest.
+Model two_edges() {
+  return two_pieces(
+      {Vec2(0, 0), Vec2(0.02, 0), Vec2(1, 0), Vec2(1.02, 0), Vec2(0, 0.02), Vec2(1, 0.02)},
+      {Tri(0, 1, 4), Tri(2, 3, 5)});
+}
+
+// Edge 0-1 along x; edge 2-3 above it (gap about d), turned by `degrees` about z and
+// shifted across by `across` (m), each point nudged by up to `nudge` (m; 0: none).
+Vec3List crossing_edges(double degrees, double across, double d, std::mt19937* rng = nullptr,
+                        double nudge = 0.0) {
+  const double a = degrees * M_PI / 180.0, h = kThickness + d;
+  const Vec3 centre(0.01, across, h), half(0.01 * std::cos(a), 0.01 * std::sin(a), 0.0);
+  Vec3List x = {Vec3(0, 0, 0), Vec3(0.02, 0, 0), centre - half, centre + half};
+  if (rng) {
+    std::uniform_real_distribution<double> shift(-nudge, nudge);
+    for (Vec3& p : x) p += Vec3(shift(*rng), shift(*rng), 0.5 * shift(*rng));
+  }
+  return x;
+}
+
+// The angle between the edges below which the pair is mollified, degrees: c = |e0 x e1|^2
+// reaches eps_x at sin^2(a) = eps_x / (|e0|^2 |e1|^2), both edges 2 cm long.
+double limit_degrees(const SelfBarrier& self, const std::array<int, 4>& ids) {
+  const PairGap g = self.gap_of_vertices(ids, true, crossing_edges(10.0, 0.0, 1e-3));
+  return std::asin(std::sqrt(g.cross_limit) / (0.02 * 0.02)) * 180.0 / M_PI;
+}
+
+// Nearly parallel edges within dhat: the gradient of m(c) b(gap) matches central
+// differences of that energy, and its exact second derivative differences of the gradient,
+// whichever features the closest points lie on.
+TEST(PairGap, MollifiedBarrierMatchesDifferences) {
+  const Model m = two_edges();
+  SelfBarrier self;
+  self.begin(m);
+  const double dhat = 0.002, kappa = 50.0;  // m, kg/s^2
+  const std::array<int, 4> ids = {0, 1, 2, 3};
+  const auto energy = [&](const Vec3List& y) {
+    const PairGap g = self.gap_of_vertices(ids, true, y);
+    return edge_mollifier(g) * barrier_energy(g.d, dhat, kappa);
+  };
+  const auto gradient = [&](const Vec3List& y) {
+    const PairGap g = self.gap_of_vertices(ids, true, y);
+    return mollified_gradient(g, barrier_energy(g.d, dhat, kappa),
+                              barrier_derivative(g.d, dhat, kappa));
+  };
+  // Edges within half the mollifier's angle, nudged by 3% of it at most, shifted
+  // across by up to 1.2 times the shift that still puts the lines' crossing within both
+  // edges: the closest points on their interiors, or at an end of one or both.
+  const double limit = limit_degrees(self, ids) * M_PI / 180.0;  // rad
+  ASSERT_GT(limit, 0.0);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> turn(0.0, 0.5 * limit), unit(-1.0, 1.0);
+  std::uniform_real_distribution<double> gap(4e-4, 1.6e-3);
+  int seen[3] = {0, 0, 0};  // by free parameters
+  for (int trial = 0; trial < 300; ++trial) {
+    const double a = turn(rng);
+    const Vec3List x = crossing_edges(a * 180.0 / M_PI, 1.2 * unit(rng) * 0.01 * std::tan(a),
+                                      gap(rng), &rng, 0.03 * limit * 0.02);
+    const PairGap g = self.gap_of_vertices(ids, true, x);
+    if (g.d < 2e-4 || g.d > dhat - 2e-4) continue;
+    ASSERT_TRUE(is_mollified(g)) << "trial " << trial;
+    const double mollifier = edge_mollifier(g);
+    ASSERT_GT(mollifier, 0.0);
+    ASSERT_LT(mollifier, 1.0);
+    ++seen[g.params];
+    PairVector fd_gradient;
+    const double e = 1e-9;
+    for (int c = 0; c < 12; ++c) {
+      Vec3List plus = x, minus = x;
+      plus[c / 3][c % 3] += e;
+      minus[c / 3][c % 3] -= e;
+      fd_gradient[c] = (energy(plus) - energy(minus)) / (2 * e);
+    }
+    const PairVector grad = gradient(x);
+    EXPECT_LT((grad - fd_gradient).norm(), 1e-5 * grad.norm()) << "trial " << trial;
+    const PairMatrix h = mollified_hessian(g, barrier_energy(g.d, dhat, kappa),
+                                           barrier_derivative(g.d, dhat, kappa),
+                                           barrier_second_derivative(g.d, dhat, kappa), false);
+    const PairMatrix fd = differences(x, gradient, 1e-9);
+    EXPECT_LT((h - fd).norm(), 1e-5 * h.norm())
+        << "trial " << trial << ", " << g.params << " free parameters";
+    EXPECT_LT((h - h.transpose()).norm(), 1e-12 * h.norm());
+  }
+  for (int p = 0; p < 3; ++p) EXPECT_GT(seen[p], 5) << p << " free parameters";
+}
+
+// Turning one edge through parallel: the mollified barrier falls smoothly to zero there,
+// equals the plain barrier from eps_x on, and its projected Hessian is positive
+// semi-definite with pinned vertices' rows and columns zero.
+TEST(PairGap, MollifierTakesTheBarrierToZeroAtParallel) {
+  const Model m = two_edges();
+  SelfBarrier self;
+  self.begin(m);
+  const double dhat = 0.002, kappa = 50.0;  // m, kg/s^2
+  const std::array<int, 4> ids = {0, 1, 2, 3};
+  const auto at = [&](double degrees) {
+    return self.gap_of_vertices(ids, true, crossing_edges(degrees, 0.0, 1e-3, nullptr));
+  };
+  const double limit = limit_degrees(self, ids);
+  EXPECT_EQ(edge_mollifier(at(0.0)), 0.0);
+  // m(c) = 2 r - r^2 with r = c / eps_x = sin^2(a) / sin^2(limit) here.
+  const double sin_limit = std::sin(limit * M_PI / 180.0);
+  for (double share : {0.2, 0.5, 0.9}) {
+    const double r = std::pow(std::sin(share * limit * M_PI / 180.0) / sin_limit, 2);
+    EXPECT_NEAR(edge_mollifier(at(share * limit)), r * (2.0 - r), 1e-9) << share;
+  }
+  // Beyond eps_x nothing changes.
+  const PairGap wide = at(5.0 * limit);
+  EXPECT_FALSE(is_mollified(wide));
+  EXPECT_EQ(edge_mollifier(wide), 1.0);
+  const double slope = barrier_derivative(wide.d, dhat, kappa);
+  const double curvature = barrier_second_derivative(wide.d, dhat, kappa);
+  EXPECT_EQ(mollified_hessian(wide, 0.0, slope, curvature, true),
+            gap_function_hessian(wide, slope, curvature, true));
+  // The slope of m(c) at eps_x is zero: the energy has no kink where the mollifier ends.
+  const PairGap below = at(limit * (1 - 1e-4)), above = at(limit * (1 + 1e-4));
+  EXPECT_NEAR(edge_mollifier(below), 1.0, 1e-7);
+  // Projected, with vertex 1 pinned.
+  const bool fixed[4] = {false, true, false, false};
+  const PairGap g = at(0.5 * limit);
+  const PairMatrix psd =
+      mollified_hessian(g, barrier_energy(g.d, dhat, kappa), barrier_derivative(g.d, dhat, kappa),
+                        barrier_second_derivative(g.d, dhat, kappa), true, fixed);
+  const Eigen::SelfAdjointEigenSolver<PairMatrix> eig(psd);
+  EXPECT_GE(eig.eigenvalues()[0], -1e-9 * eig.eigenvalues()[11]);
+  EXPECT_GT(eig.eigenvalues()[11], 0.0);
+  EXPECT_EQ(psd.middleRows<3>(3).norm(), 0.0);
+  EXPECT_EQ(psd.middleCols<3>(3).norm(), 0.0);
+  EXPECT_EQ(edge_mollifier(above), 1.0);
 }
 
 }  // namespace
