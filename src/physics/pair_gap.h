@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 
 #include "collision/primitive_distance.h"
 #include "core/types.h"
@@ -78,6 +79,10 @@ PairMatrix gap_function_hessian(const PairGap& g, double slope, double curvature
 double edge_mollifier(const PairGap& g);
 // Whether g's barrier is mollified: an edge-edge pair with c < eps_x.
 bool is_mollified(const PairGap& g);
+// eps_x of the edges ids[0]-ids[1] and ids[2]-ids[3] of a cloth with rest coordinates
+// rest_uv (m): a share of the product of their squared rest lengths (m^4), which puts
+// edges within about 0.18 degrees of parallel below it.
+double cross_limit_at_rest(const Vec2List& rest_uv, const std::array<int, 4>& ids);
 
 // The gradient and second derivative of m(c) f(gap) in the pair's vertices, for f, its
 // slope f' and curvature f'' at g.d (a barrier's J, N and N/m): exact, or (psd) projected

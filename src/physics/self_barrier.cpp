@@ -18,11 +18,6 @@ constexpr int kLeafSize = 4;
 // The trees are rebuilt every this many calls of find_pairs and refitted in between (a
 // build costs several refits; a refitted tree's boxes overlap more as the cloth folds).
 constexpr int kCallsPerBuild = 32;
-// The mollifier's threshold eps_x of an edge-edge pair (pair_gap.h) as a share of the
-// product of its edges' squared rest lengths: edges within about 0.18 degrees of parallel.
-// IPC's 1e-3 (1.8 degrees) made folding runs take up to 35% more Newton iterations, while
-// this share keeps its effect on layers laid parallel (docs/implicit.md).
-constexpr double kMollifierShare = 1e-5;
 
 Box3 grown(Box3 box, double margin) {
   box.min().array() -= margin;
@@ -64,9 +59,7 @@ PairGap SelfBarrier::gap_at(const std::array<int, 4>& ids, bool edge_edge,
     g.add_segment_params(s.t, 2, -1.0, p[2], p[3]);
     g.edges[0] = p[1] - p[0];
     g.edges[1] = p[3] - p[2];
-    const Vec2List& uv = model_->rest_uv;
-    g.cross_limit = kMollifierShare * (uv[ids[1]] - uv[ids[0]]).squaredNorm() *
-                    (uv[ids[3]] - uv[ids[2]]).squaredNorm();
+    g.cross_limit = cross_limit_at_rest(model_->rest_uv, ids);
   } else {
     const TrianglePoint c = closest_on_triangle(p[0], p[1], p[2], p[3]);
     between = p[0] - c.point;
