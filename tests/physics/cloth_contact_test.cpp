@@ -175,9 +175,9 @@ TEST(ClothContact, StackedSheetsRestAsTwoLayersImplicitOnAConstrainedGround) {
 // edge of the upper lies parallel over one of the lower, where an edge-edge pair's closest
 // points jump along the edges with the least turn. The mollifier (pair_gap.h) takes those
 // pairs' barrier smoothly to zero, and the stack falls and settles on the ground in a few
-// Newton iterations a step. Without it the line search cut each direction to an eighth and
-// Newton ran to its limit in every substep.
-TEST(ClothContact, IdenticalGridsLaidParallelSettleInFewNewtonIterations) {
+// Newton iterations a step, with either contact model for the ground. Without it the line
+// search cut each direction to an eighth and Newton ran to its limit in every substep.
+void expect_parallel_grids_settle(ContactModel contact) {
   constexpr double kThickness = 0.005;  // m
   Vec3List lower, upper;
   Model m = testing::grid_model(0.3, 0.3, 8, 8, 0.0, 1, &lower);
@@ -191,7 +191,7 @@ TEST(ClothContact, IdenticalGridsLaidParallelSettleInFewNewtonIterations) {
   m.air_damping = 0.5;
   m.integrator = Integrator::BackwardEuler;
   m.dt = 1.0 / 60.0;
-  m.implicit.contact = ContactModel::Barrier;
+  m.implicit.contact = contact;
   m.obstacles = {ground()};
   m.obstacles[0].friction = 0.5;
   m.self_collision = SelfCollision{kThickness, 0.3};
@@ -217,6 +217,14 @@ TEST(ClothContact, IdenticalGridsLaidParallelSettleInFewNewtonIterations) {
   EXPECT_LT(lower_mean, barrier_distance(m));  // landed
   EXPECT_GT(upper_mean - lower_mean, kThickness);
   EXPECT_LT(upper_mean - lower_mean, kThickness + barrier_distance(m));
+}
+
+TEST(ClothContact, IdenticalGridsLaidParallelSettleInFewNewtonIterations) {
+  expect_parallel_grids_settle(ContactModel::Barrier);
+}
+
+TEST(ClothContact, IdenticalGridsLaidParallelSettleInFewNewtonIterationsOnAConstrainedGround) {
+  expect_parallel_grids_settle(ContactModel::Constraints);
 }
 
 // The stack of two sheets laid on the ground instead of dropped: the upper 1 mm beyond the
