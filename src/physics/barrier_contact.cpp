@@ -554,18 +554,15 @@ void BarrierContact::add_impulses(const Vec3List& v, Eigen::VectorXd& rhs) const
     for_each_pair(end_positions(v), [&](const PairGap& g, double kappa) {
       if (g.d <= 0.0 || g.d >= dhat_) return;
       const double slope = barrier_derivative(g.d, dhat_, kappa);  // N
-      if (is_mollified(g)) {
-        const PairVector gradient =
-            mollified_gradient(g, barrier_energy(g.d, dhat_, kappa), slope);  // N
-        for (int k = 0; k < g.count; ++k) {
-          if (model_->pinned[g.vertices[k]]) continue;
-          rhs.segment<3>(3 * g.vertices[k]) -= beta_ * gradient.segment<3>(3 * k);
-        }
-        return;
-      }
+      // Nearly parallel edges: the mollified barrier's whole gradient (only they need it).
+      const bool mollified = is_mollified(g);
+      PairVector gradient;  // N
+      if (mollified) gradient = mollified_gradient(g, barrier_energy(g.d, dhat_, kappa), slope);
       for (int k = 0; k < g.count; ++k) {
         if (model_->pinned[g.vertices[k]]) continue;
-        rhs.segment<3>(3 * g.vertices[k]) -= (beta_ * slope * g.weights[k]) * g.normal;
+        rhs.segment<3>(3 * g.vertices[k]) -=
+            mollified ? Vec3(beta_ * gradient.segment<3>(3 * k))
+                      : Vec3((beta_ * slope * g.weights[k]) * g.normal);
       }
     });
   }

@@ -160,6 +160,16 @@ CrossSquared cross_squared(const PairGap& g) {
   return out;
 }
 
+// m(c) and its first two derivatives in c (1, m^-4, m^-8) below eps_x.
+struct MollifierValues {
+  double m, dm, ddm;
+};
+
+MollifierValues mollifier_at(double c, double eps) {
+  const double r = c / eps;
+  return {r * (2.0 - r), (2.0 - 2.0 * r) / eps, -2.0 / (eps * eps)};
+}
+
 PairVector gap_gradient(const PairGap& g) {
   PairVector out = PairVector::Zero();
   for (int k = 0; k < g.count; ++k) out.segment<3>(3 * k) = g.weights[k] * g.normal;
@@ -170,8 +180,7 @@ PairVector gap_gradient(const PairGap& g) {
 
 double edge_mollifier(const PairGap& g) {
   if (!is_mollified(g)) return 1.0;
-  const double r = g.edges[0].cross(g.edges[1]).squaredNorm() / g.cross_limit;
-  return r * (2.0 - r);
+  return mollifier_at(g.edges[0].cross(g.edges[1]).squaredNorm(), g.cross_limit).m;
 }
 
 bool is_mollified(const PairGap& g) {
@@ -186,23 +195,20 @@ double cross_limit_at_rest(const Vec2List& rest_uv, const std::array<int, 4>& id
 PairVector mollified_gradient(const PairGap& g, double value, double slope) {
   if (!is_mollified(g)) return slope * gap_gradient(g);
   const CrossSquared c = cross_squared(g);
-  const double r = c.c / g.cross_limit;
-  const double m = r * (2.0 - r), dm = (2.0 - 2.0 * r) / g.cross_limit;  // 1, m^-4
-  return m * slope * gap_gradient(g) + value * dm * c.gradient;
+  const MollifierValues m = mollifier_at(c.c, g.cross_limit);
+  return m.m * slope * gap_gradient(g) + value * m.dm * c.gradient;
 }
 
 PairMatrix mollified_hessian(const PairGap& g, double value, double slope, double curvature,
                              bool psd, const bool* fixed) {
   if (!is_mollified(g)) return gap_function_hessian(g, slope, curvature, psd, fixed);
   const CrossSquared c = cross_squared(g);
-  const double eps = g.cross_limit;
-  const double r = c.c / eps;
-  const double m = r * (2.0 - r), dm = (2.0 - 2.0 * r) / eps, ddm = -2.0 / (eps * eps);
-  const PairVector grad_m = dm * c.gradient;
+  const MollifierValues m = mollifier_at(c.c, g.cross_limit);
+  const PairVector grad_m = m.dm * c.gradient;
   const PairVector grad_gap = gap_gradient(g);
   // m f'' grad grad^T + m f' Hess gap + f Hess m + f' (grad m grad^T + grad grad m^T).
-  PairMatrix h = m * gap_function_hessian(g, slope, curvature, false) +
-                 value * (ddm * c.gradient * c.gradient.transpose() + dm * c.hessian) +
+  PairMatrix h = m.m * gap_function_hessian(g, slope, curvature, false) +
+                 value * (m.ddm * c.gradient * c.gradient.transpose() + m.dm * c.hessian) +
                  slope * (grad_m * grad_gap.transpose() + grad_gap * grad_m.transpose());
   const auto zero_fixed = [&](PairMatrix& matrix) {
     for (int k = 0; fixed && k < g.count; ++k) {
