@@ -43,14 +43,22 @@ Obstacle ground() {
   return o;
 }
 
+// The sheets of a stack: two different jittered grids, the upper shifted across, or the
+// same regular grid twice, every edge of the upper over its twin in the lower.
+enum class Layers { Jittered, Identical };
+
 // Two w x w sheets of n x n cells, the second `gap` above the first, at height z.
-Model two_sheets(double w, int n, double z, double gap, Vec3List* x) {
+Model two_sheets(double w, int n, double z, double gap, Vec3List* x,
+                 Layers layers = Layers::Jittered) {
+  const bool identical = layers == Layers::Identical;
+  const double jitter = identical ? 0.0 : 0.3;
   Vec3List lower, upper;
-  Model m = testing::grid_model(w, w, n, n, 0.3, 3, &lower);
-  const Model top = testing::grid_model(w, w, n, n, 0.3, 4, &upper);
+  Model m = testing::grid_model(w, w, n, n, jitter, identical ? 1 : 3, &lower);
+  const Model top = testing::grid_model(w, w, n, n, jitter, identical ? 1 : 4, &upper);
   for (Vec3& p : lower) p.z() = z;
   *x = lower;
-  append_sheet(m, *x, top, upper, Vec3(0.01, -0.02, z + gap));
+  const Vec3 across = identical ? Vec3::Zero() : Vec3(0.01, -0.02, 0.0);
+  append_sheet(m, *x, top, upper, across + Vec3(0, 0, z + gap));
   m.material = testing::test_material();
   m.material.damping = 1e-5;
   return m;
@@ -62,8 +70,8 @@ bool crosses(const Model& m, const Vec3List& x) { return self_crossings(x, m.tri
 // gravity with air damping, layers `thickness` (m) apart with friction 0.3, on ground with
 // friction 0.5, stepped by `integrator` at dt (s) with `contact`.
 Model stack_over_ground(double z, double gap, double thickness, Integrator integrator, double dt,
-                        ContactModel contact, Vec3List* x) {
-  Model m = two_sheets(0.3, 8, z, gap, x);
+                        ContactModel contact, Vec3List* x, Layers layers = Layers::Jittered) {
+  Model m = two_sheets(0.3, 8, z, gap, x, layers);
   m.gravity = Vec3(0, 0, -9.81);
   m.air_damping = 0.5;
   m.integrator = integrator;
@@ -179,23 +187,10 @@ TEST(ClothContact, StackedSheetsRestAsTwoLayersImplicitOnAConstrainedGround) {
 // search cut each direction to an eighth and Newton ran to its limit in every substep.
 void expect_parallel_grids_settle(ContactModel contact) {
   constexpr double kThickness = 0.005;  // m
-  Vec3List lower, upper;
-  Model m = testing::grid_model(0.3, 0.3, 8, 8, 0.0, 1, &lower);
-  const Model top = testing::grid_model(0.3, 0.3, 8, 8, 0.0, 1, &upper);
-  for (Vec3& p : lower) p.z() = 0.03;
-  Vec3List x = lower;
-  append_sheet(m, x, top, upper, Vec3(0, 0, 0.03 + kThickness + 0.001));
-  m.material = testing::test_material();
-  m.material.damping = 1e-5;
-  m.gravity = Vec3(0, 0, -9.81);
-  m.air_damping = 0.5;
-  m.integrator = Integrator::BackwardEuler;
-  m.dt = 1.0 / 60.0;
-  m.implicit.contact = contact;
-  m.obstacles = {ground()};
-  m.obstacles[0].friction = 0.5;
-  m.self_collision = SelfCollision{kThickness, 0.3};
-  precompute_rest(m);
+  Vec3List x;
+  const Model m = stack_over_ground(0.03, kThickness + 0.001, kThickness,
+                                    Integrator::BackwardEuler, 1.0 / 60.0, contact, &x,
+                                    Layers::Identical);
   State s;
   s.x = x;
   s.v.assign(x.size(), Vec3::Zero());
