@@ -70,6 +70,7 @@ void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& grav
   }
   c.mode = ContactMode::Slide;
   c.friction_limit = c.friction * mass * approach;
+  c.unabsorbed_impact = mass * std::max(0.0, -c.normal.dot(relative));
 }
 
 // f1(y) / y of the smoothed friction (y = sliding speed, m/s), 1/(m/s).
@@ -141,6 +142,7 @@ void ContactSet::add_contact(const Model& model, const PlacedObstacle& placed, i
   } else if (last.in_contact) {
     c.mode = last.mode;
     c.friction_limit = last.friction_force * beta;
+    c.unabsorbed_impact = last.unabsorbed_impact;
   } else if (velocities) {
     predict_mode(c, (*velocities)[i], model.mass[i],
                  model.gravity ? *model.gravity : Vec3::Zero(), beta);
@@ -387,7 +389,12 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release,
                                     : std::max(0, last.slide_steps_left - 1);
     if (speed >= kSlidingSpeed || gaining || c.switched || last.slide_steps_left > 0) {
       m.mode = ContactMode::Slide;
-      m.friction_force = c.friction * c.normal_impulse / beta;
+      // Its friction for the next step, from the normal force of this one: an impact's
+      // impulse is left out, its friction taken at the catch (Coulomb's law at an impact:
+      // at most mu times its impulse, where carrying it on would take it twice).
+      const double absorbed = std::min(c.unabsorbed_impact, std::max(0.0, c.normal_impulse));
+      m.friction_force = c.friction * (c.normal_impulse - absorbed) / beta;
+      m.unabsorbed_impact = c.unabsorbed_impact - absorbed;
       m.sliding_speed = speed;
     }
   }

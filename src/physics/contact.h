@@ -96,6 +96,10 @@ struct VertexContact {
   double pull = 0.0;                     // -J_n of the last solve if it pulls, kg*m/s
   Vec3 tangential_impulse = Vec3::Zero();  // J_t of the last solve while sticking, kg*m/s
   double friction_limit = 0.0;           // mu J_n while sliding, kg*m/s
+  // The impulse a contact caught sliding needs to stop the approach it was caught with,
+  // less what its normal impulses have absorbed so far, kg*m/s: its first step's friction
+  // took mu times it whole, so the next steps' friction leaves it out of J_n.
+  double unabsorbed_impact = 0.0;
 };
 
 // The sliding friction of contact c: its normal, surface velocity and friction limit.
@@ -184,6 +188,7 @@ class ContactSet {
     bool released = false;  // pulled at the end of the last step: not caught unless inside
     ContactMode mode = ContactMode::Stick;
     double friction_force = 0.0;  // mu J_n / beta while sliding, N
+    double unabsorbed_impact = 0.0;  // kg*m/s, VertexContact::unabsorbed_impact
     double sliding_speed = INFINITY;  // m/s at the end of the step, while sliding
     int obstacle = -1;                // the second contact's obstacle
     int slide_steps_left = 0;         // before a slow slide sticks it again

@@ -366,6 +366,27 @@ TEST(Contact, SlidingSheetDeceleratesAtMuGThenSticks) {
   }
 }
 
+// A sheet that strikes a level plane at a slant, sliding faster than friction can stop at
+// the impact: Coulomb's law takes mu times the impulse that stops its fall once, v_t -
+// mu v_n, then decelerates it at mu g. Backward Euler gives that exactly: the catch step
+// takes mu m (v_n + g h), each later step mu m g h. The step after the impact used to take
+// the landing's normal impulse over again (the lagged normal force held the impact), so
+// a sheet dropped on an incline with mu below tan(a) landed stuck at every step size.
+TEST(Contact, SlantedImpactTakesCoulombsFrictionOnce) {
+  const double h = 1.0 / 60.0, mu = 0.4, along = 1.0, down = 0.5;  // s, -, m/s, m/s
+  Incline in = sheet_on_incline(0.0, mu, h);
+  for (Vec3& v : in.sheet.state.v) v = Vec3(along, 0.0, -down);
+  Workspace ws;
+  for (int k = 1; k <= 8; ++k) {
+    ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+    const double expected = along - mu * down - mu * kG * k * h;  // m/s
+    for (const Vec3& v : in.sheet.state.v) {
+      EXPECT_NEAR(v.x(), expected, 1e-6 * along) << "step " << k;
+      EXPECT_NEAR(v.z(), 0.0, 1e-9) << "step " << k;
+    }
+  }
+}
+
 // A sheet at rest on a belt (a level plane moving along itself at V): friction speeds it
 // up at mu g until it moves with the belt, within a step of V / (mu g), and then it rides
 // the belt without slipping. Against the surface this is the sliding sheet above, so the
