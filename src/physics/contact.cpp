@@ -400,6 +400,16 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release,
   }
 }
 
+void ContactSet::absorb_stopped_approach(const Model& model, const Vec3List& v) {
+  for (const VertexContact& c : contacts_) {
+    if (second_of_vertex_[c.vertex] >= 0) continue;  // a corner's contacts slide apart
+    Memory& m = memory_[c.vertex];
+    if (m.unabsorbed_impact == 0.0) continue;
+    const double approach = std::max(0.0, -c.normal.dot(v[c.vertex] - c.surface_velocity));
+    m.unabsorbed_impact = std::max(0.0, m.unabsorbed_impact - model.mass[c.vertex] * approach);
+  }
+}
+
 int ContactSet::stuck() const {
   int count = 0;
   for (const VertexContact& c : contacts_) {

@@ -175,6 +175,10 @@ class ContactSet {
   // mu J_n / beta, which the next step turns into impulses over its own beta (BDF-2's
   // first step is backward Euler's, over h; the next ones are over 2 h / 3).
   void remember(const Vec3List& v, const std::vector<double>& release, double beta);
+  // After remember: the end velocities v (m/s) still move into the surface of a held
+  // contact, and the step stops that outside the solve (BDF-2, the midpoint rule). That
+  // impulse absorbs what is left of the contact's impact as its J_n would.
+  void absorb_stopped_approach(const Model& model, const Vec3List& v);
 
   int stuck() const;  // contacts sticking
 

@@ -786,8 +786,10 @@ void stop_by_friction(const Model& model, const ImplicitSolver& s, const VertexC
 // rule's 2 w - v_n reflects it. So the relative normal velocity of a held contact is set
 // to 0; with `history` (BDF-2) the normal part of x_n, v_n, the next step's history, is
 // set to that of a vertex that moved at v_{n+1} over the step, so that the next step's
-// base lies on the plane too. With `friction_stops` (the midpoint rule) friction's
-// reflection is undone too (stop_by_friction).
+// base lies on the plane too; for a vertex caught with an impact still to absorb, the
+// whole history is (its base would carry the sliding speed the impact's friction took off
+// into the next steps). With `friction_stops` (the midpoint rule) friction's reflection is
+// undone too (stop_by_friction).
 void stop_held_contacts(const Model& model, const ImplicitSolver& s, State& state,
                         bool friction_stops, Vec3List* history_x, Vec3List* history_v,
                         double h) {
@@ -818,6 +820,9 @@ void stop_held_contacts(const Model& model, const ImplicitSolver& s, State& stat
                                            other->normal.dot(moved));
       (*history_v)[i] += along_two_normals(c.normal, other->normal, c.normal.dot(turned),
                                            other->normal.dot(turned));
+    } else if (c.unabsorbed_impact > 0.0) {
+      (*history_x)[i] = x_before;
+      (*history_v)[i] = v;
     } else {
       (*history_x)[i] += c.normal.dot(moved) * c.normal;
       (*history_v)[i] += c.normal.dot(turned) * c.normal;
@@ -869,6 +874,7 @@ void bdf2_step(const Model& model, State& state, Workspace& ws, double h, double
     newton_solve(model, state, ws, s, StepEquation{h, t, beta, t + h, beta, t + h, 1.0});
     take_velocities(model, s, state);
   }
+  s.contacts.absorb_stopped_approach(model, state.v);
   stop_held_contacts(model, s, state, /*friction_stops=*/false, &s.x_saved, &s.v_saved, h);
   end_step(state, s, h, t);
 }
