@@ -237,15 +237,22 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
     placed_.push_back(place_obstacle(ob, t_end));
     placed_start_.push_back(place_obstacle(ob, t));
     if (ob.friction == 0.0) continue;
-    // Lagged friction: the barrier's normal force at x_n, over the step, as J_n.
+    // Lagged friction: the barrier's normal force at x_n, and the damping's that stopped a
+    // landing in the last step, over the step, as J_n.
     const PlacedObstacle& start = placed_start_.back();
+    const int o = static_cast<int>(placed_.size()) - 1;
+    landing_scratch_.assign(landings_.empty() ? 0 : n, 0.0);
+    for (const LandingImpulse& l : landings_) {
+      if (l.obstacle == o) landing_scratch_[l.vertex] = l.impulse;
+    }
     for (int i = 0; i < n; ++i) {
       if (model.pinned[i]) continue;
       const double d = gap_distance(start, x_n[i], dhat_);
       if (d <= 0.0 || d >= dhat_) continue;
       const Gap g = obstacle_gap(start, x_n[i]);
+      const double landing = landing_scratch_.empty() ? 0.0 : landing_scratch_[i];  // kg*m/s
       const double normal_impulse =
-          -beta_ * barrier_derivative(g.d, dhat_, kappa_[i]);  // kg*m/s
+          std::max(0.0, landing - beta_ * barrier_derivative(g.d, dhat_, kappa_[i]));  // kg*m/s
       friction_.push_back({i, SlidingFriction{g.normal, g.surface_velocity,
                                               ob.friction * normal_impulse}});
     }
@@ -453,11 +460,19 @@ void BarrierContact::freeze_damping(const Vec3List& v, const Vec3List& v_n) {
     if (model_->pinned[i]) continue;
     const Vec3 x = end_position(v, i);
     const double largest = kMaxStepDamping * model_->mass[i] / beta_end_;  // kg/s
-    for (const PlacedObstacle& o : placed_) {
-      NormalDamping law = vertex_damping(o, x, kappa_[i], model_->mass[i], dhat_, zeta);
+    for (size_t o = 0; o < placed_.size(); ++o) {
+      NormalDamping law = vertex_damping(placed_[o], x, kappa_[i], model_->mass[i], dhat_, zeta);
       law.coefficient = std::min(law.coefficient, largest);
-      if (law.coefficient > 0.0) damping_.push_back({i, law});
+      if (law.coefficient > 0.0) damping_.push_back({i, static_cast<int>(o), law});
     }
+  }
+}
+
+void BarrierContact::remember_landings(const Vec3List& v) {
+  landings_.clear();
+  for (const Damping& d : damping_) {
+    const double force = d.law.normal.dot(d.law.force(end_velocity(v, d.vertex)));  // N
+    if (force != 0.0) landings_.push_back({d.vertex, d.obstacle, beta_ * force});
   }
 }
 

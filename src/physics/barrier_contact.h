@@ -15,7 +15,8 @@
 // incremental potential. The line search never goes past 0.9 of the step at which a
 // vertex's straight path first reaches d = 0 (largest_step), so no vertex ends inside.
 // Friction is IPC's lagged smoothed Coulomb friction (SlidingFriction, contact.h) with the
-// barrier's normal force at the start of the step as the normal impulse, for vertices
+// barrier's normal force at the start of the step (and the damping's impulse that stopped
+// a landing in the step before: LandingImpulse) as the normal impulse, for vertices
 // against obstacles and between the layers of a self pair. A normal damping
 // inside the band (NormalDamping) makes a landing inelastic.
 // Tests: tests/physics/barrier_contact_test.cpp.
@@ -117,6 +118,17 @@ double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u)
 // The barrier contacts of one implicit step, whose equation applies the forces with weight
 // beta: M (v - v_base) = beta f + ... End positions are x_end(v) = x_end_base + beta_end v;
 // the barrier acts on them like the other forces, so its impulse on the step equation is
+// The normal impulse (kg*m/s) the band's damping gave a vertex against an obstacle in a
+// step: what stopped its landing there (or, negative, held back its rebound), which the
+// next step's lagged friction takes with the barrier's force (a landing's impact is the
+// damping's, not the barrier's). An impact is an impulse: carried as a force, a landing
+// in a short substep would weigh more in a longer step after it.
+struct LandingImpulse {
+  int vertex = -1;
+  int obstacle = -1;  // index in Model::obstacles
+  double impulse = 0.0;
+};
+
 // -beta grad B(x_end), its matrix beta beta_end Hess B and its share of the incremental
 // potential (beta / beta_end) B. (Backward Euler and BDF-2: beta = beta_end. The midpoint
 // rule solves for the midpoint velocity w with beta = h / 2 and ends at x_n + h w: its
@@ -125,7 +137,8 @@ class BarrierContact {
  public:
   // At the start of a step from positions x_n at t (s) to t_end: the analytic obstacles
   // placed at t_end, and the lagged friction of every vertex within dhat of an obstacle
-  // with friction at x_n (normal impulse beta |b'(d)|). With the constraints model
+  // with friction at x_n (normal impulse beta |b'(d)|, plus the damping's impulse that
+  // the last step's remember_landings kept). With the constraints model
   // (model.implicit.contact) it takes only the cloth against itself, where the scene
   // declares self_collision, and a mesh obstacle's corners and edges past
   // feature_thickness (the cloth's vertices against the obstacles are then the solve's
@@ -133,6 +146,12 @@ class BarrierContact {
   void begin(const Model& model, const Vec3List& x_n, const Vec3List& x_end_base,
              double beta, double beta_end, double t, double t_end);
   bool enabled() const { return enabled_; }
+  // After a step's solve: keeps the damping's normal impulses at its end velocities (v the
+  // step's unknown, m/s) for the next step's friction. A step taken again restores the
+  // landings it started with.
+  void remember_landings(const Vec3List& v);
+  const std::vector<LandingImpulse>& landings() const { return landings_; }
+  void restore_landings(const std::vector<LandingImpulse>& landings) { landings_ = landings; }
   bool takes_obstacles() const { return takes_obstacles_; }  // the barrier model
 
   double dhat() const { return dhat_; }
@@ -256,9 +275,12 @@ class BarrierContact {
   void add_pair_hessian(const PairGap& pair, const PairMatrix& hessian, SystemMatrix& system);
   struct Damping {
     int vertex = -1;
+    int obstacle = -1;
     NormalDamping law;
   };
   std::vector<Damping> damping_;  // frozen by freeze_damping
+  std::vector<LandingImpulse> landings_;  // of the last step, by remember_landings
+  std::vector<double> landing_scratch_;  // (V) one obstacle's landing impulses, kg*m/s
   const Vec3List* v_start_ = nullptr;  // v_n, m/s
   MeshFeatureBarrier features_;         // mesh corners and edges against the cloth
   MeshFeatureBarrier energy_features_;  // the same for energy_of

@@ -72,6 +72,22 @@ struct ImplicitSolver {
 
 namespace {
 
+// What a step taken again starts from: the constraints' contacts with their memories, and
+// the barrier's landings of the step before.
+struct ContactMemory {
+  ContactSet contacts;
+  std::vector<LandingImpulse> landings;
+};
+
+ContactMemory contact_memory(const ImplicitSolver& s) {
+  return {s.contacts, s.barrier.landings()};
+}
+
+void restore(ImplicitSolver& s, const ContactMemory& memory) {
+  s.contacts = memory.contacts;
+  s.barrier.restore_landings(memory.landings);
+}
+
 // Stage times are processor time (std::clock), which other processes do not inflate.
 double processor_seconds_since(std::clock_t t0) {
   return static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC;
@@ -701,6 +717,7 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
 
   report.stuck_contacts = s.contacts.stuck();
   s.contacts.remember(s.v, release_impulses(model, eq, s), eq.beta);
+  s.barrier.remember_landings(s.v);
 
   // Vertices the passes left inside an obstacle (the step's collision stage moves them out).
   if (!s.placed.empty()) {
@@ -1096,7 +1113,7 @@ void energy_ruled_step(const Model& model, State& state, Workspace& ws, double h
     return;
   }
   const State start = state;
-  const ContactSet contacts = s.contacts;
+  const ContactMemory contacts = contact_memory(s);
   solve(model, state, ws, h, t);
   const EnergyBalance b = energy_balance(model, start, state, h, t, ws, work);
   const double at_stake = b.kinetic + b.elastic + b.barrier + std::abs(b.supplied) +
@@ -1106,7 +1123,7 @@ void energy_ruled_step(const Model& model, State& state, Workspace& ws, double h
   SolveCounts counts;  // the whole step's solve, discarded, and both halves'
   counts.add(ws);
   state = start;
-  s.contacts = contacts;
+  restore(s, contacts);
   energy_ruled_step(model, state, ws, 0.5 * h, t, solve, work, halvings + 1);
   counts.add(ws);
   energy_ruled_step(model, state, ws, 0.5 * h, t + 0.5 * h, solve, work, halvings + 1);
@@ -1366,7 +1383,7 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
     return;
   }
   const State start = state;
-  const ContactSet contacts = s.contacts;
+  const ContactMemory contacts = contact_memory(s);
   bool corrected = false;
   method_step(model, state, ws, h, t);
   SolveCounts counts;
@@ -1391,7 +1408,7 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
     if (largest <= settled || round == kMaxKickRounds || stalled) break;
     last = largest;
     state = start;
-    s.contacts = contacts;
+    restore(s, contacts);
     method_step(model, state, ws, h, t);
     counts.add(ws);
   }
@@ -1407,7 +1424,7 @@ void substep(const Model& model, State& state, Workspace& ws, ImplicitSolver& s,
   }
   if (guard && gain > slack) {
     state = start;
-    s.contacts = contacts;
+    restore(s, contacts);
     // The gain falls about fourfold per halving (on the fold above): halve at once as
     // often as that needs, rather than trying each length in turn.
     int k = 1;
@@ -1496,7 +1513,7 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
   for (;;) {
     s.stage_depth = 0;
     const State start = state;
-    const ContactSet contacts = s.contacts;
+    const ContactMemory contacts = contact_memory(s);
     const double h = model.dt / substeps;
     const bool last_try = substeps >= kMaxSubsteps;
     ws.contact = ContactStats{};
@@ -1516,7 +1533,7 @@ void integrate_implicit(const Model& model, State& state, Workspace& ws) {
     }
     if (kept || last_try) break;
     state = start;
-    s.contacts = contacts;
+    restore(s, contacts);
     s.step_retaken = true;
     substeps = checked ? predicted : std::min(2 * substeps, kMaxSubsteps);
     checked = false;

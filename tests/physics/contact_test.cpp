@@ -304,6 +304,38 @@ TEST(Contact, BarrierInclineWithFrictionAboveTanACreepsBelowTheSlidingSpeed) {
   EXPECT_NEAR(fastest, creep, 0.01 * creep);
 }
 
+// The barrier model at a landing: a sheet dropped 3 cm onto an incline with mu below
+// tan(a) lands sliding, Coulomb's law takes mu times the impulse that stops its fall off
+// its speed along the slope, and it then accelerates at g (sin a - mu cos a). The band's
+// damping stops the fall, not the barrier's force, so the lagged friction, which took only
+// the barrier's force, never took the impact's friction: the sheet slid 0.095 m/s (6%)
+// faster after 1 s; now 0.9%. The sheet lands where it rests, its rest gap above the
+// incline (measured at the end); the tolerance, 2%, holds the error of the lagged
+// friction at this step.
+TEST(Contact, BarrierLandingOnAnInclineTakesCoulombsFrictionAtTheImpact) {
+  const double degrees = 20.0, mu = 0.2, drop = 0.03, h = 1.0 / 240.0;  // -, -, m, s
+  const double a = degrees * M_PI / 180.0;
+  Incline in = sheet_on_incline(degrees, mu, h);
+  in.sheet.model.implicit.contact = ContactModel::Barrier;
+  in.sheet.model.implicit.barrier_distance = 0.005;  // m
+  const Obstacle& incline = in.sheet.model.obstacles[0];
+  for (Vec3& p : in.sheet.state.x) p += drop * incline.axis;
+  Workspace ws;
+  const int steps = 240;
+  for (int k = 0; k < steps; ++k) ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+  double gap = 0.0, speed = 0.0;  // m above the incline's surface, m/s down the slope
+  for (size_t i = 0; i < in.sheet.state.x.size(); ++i) {
+    gap += (in.sheet.state.x[i] - incline.center).dot(incline.axis) / in.sheet.state.x.size();
+    speed += in.sheet.state.v[i].dot(in.down_slope) / in.sheet.state.x.size();
+  }
+  const double fall = (drop + 0.001 - gap) / std::cos(a);  // m straight down (laid 1 mm up)
+  const double impact = std::sqrt(2.0 * kG * fall);        // m/s
+  const double landed = impact / kG;                       // s
+  const double after = impact * (std::sin(a) - mu * std::cos(a));  // m/s down the slope
+  const double expected = after + kG * (std::sin(a) - mu * std::cos(a)) * (steps * h - landed);
+  EXPECT_NEAR(speed, expected, 0.02 * expected);
+}
+
 // Friction below tan(a): the sheet slides with the acceleration g (sin a - mu cos a) of
 // Coulomb's law (its new contacts start sliding, as predicted from gravity's pull along the
 // incline against mu times its push into it).
