@@ -58,9 +58,11 @@ double approach_speed(const VertexContact& c, const Vec3& v, const Vec3& gravity
 // The solve then checks a sticking guess (switch_modes); a good first guess saves the
 // Newton iterations of a switch.
 void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& gravity,
-                  double beta) {
+                  double beta, double share) {
   const Vec3 relative = v - c.surface_velocity;
-  const double approach = approach_speed(c, v, gravity, beta);  // m/s
+  const double impact = share * std::max(0.0, -c.normal.dot(relative));  // m/s
+  const double approach =
+      impact + beta * std::max(0.0, -c.normal.dot(gravity));  // m/s
   Vec3 sliding = relative + beta * gravity;
   sliding -= c.normal.dot(sliding) * c.normal;  // m/s
   const double speed = sliding.norm();
@@ -70,7 +72,14 @@ void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& grav
   }
   c.mode = ContactMode::Slide;
   c.friction_limit = c.friction * mass * approach;
-  c.unabsorbed_impact = mass * std::max(0.0, -c.normal.dot(relative));
+  c.unabsorbed_impact = mass * impact;
+}
+
+// The share of a velocity change of the end of the step that the step's unknown carries:
+// 1, or 1/2 for the midpoint rule, whose end velocity 2 w - v_n doubles the impulses on
+// its unknown w (an impact's friction taken whole on w would be taken twice).
+double impact_share(const Model& model) {
+  return model.integrator == Integrator::ImplicitMidpoint ? 0.5 : 1.0;
 }
 
 // f1(y) / y of the smoothed friction (y = sliding speed, m/s), 1/(m/s).
@@ -145,7 +154,7 @@ void ContactSet::add_contact(const Model& model, const PlacedObstacle& placed, i
     c.unabsorbed_impact = last.unabsorbed_impact;
   } else if (velocities) {
     predict_mode(c, (*velocities)[i], model.mass[i],
-                 model.gravity ? *model.gravity : Vec3::Zero(), beta);
+                 model.gravity ? *model.gravity : Vec3::Zero(), beta, impact_share(model));
   } else {
     c.mode = ContactMode::Stick;
   }
@@ -400,13 +409,20 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release,
   }
 }
 
-void ContactSet::absorb_stopped_approach(const Model& model, const Vec3List& v) {
+void ContactSet::settle_stopped_normal(const Model& model, const Vec3List& v, double beta,
+                                       bool whole) {
   for (const VertexContact& c : contacts_) {
     if (second_of_vertex_[c.vertex] >= 0) continue;  // a corner's contacts slide apart
     Memory& m = memory_[c.vertex];
-    if (m.unabsorbed_impact == 0.0) continue;
-    const double approach = std::max(0.0, -c.normal.dot(v[c.vertex] - c.surface_velocity));
-    m.unabsorbed_impact = std::max(0.0, m.unabsorbed_impact - model.mass[c.vertex] * approach);
+    if (!m.in_contact || m.mode != ContactMode::Slide) continue;
+    // The impulse on the step's unknown that stops the end velocity's normal part: positive
+    // where it stops an approach, negative where it takes back a rebound, kg*m/s.
+    const double stop = -impact_share(model) * model.mass[c.vertex] *
+                        c.normal.dot(v[c.vertex] - c.surface_velocity);
+    const double absorbed = std::clamp(stop, 0.0, m.unabsorbed_impact);
+    m.unabsorbed_impact -= absorbed;
+    if (!whole) continue;
+    m.friction_force = std::max(0.0, m.friction_force + c.friction * (stop - absorbed) / beta);
   }
 }
 

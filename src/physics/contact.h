@@ -175,10 +175,13 @@ class ContactSet {
   // mu J_n / beta, which the next step turns into impulses over its own beta (BDF-2's
   // first step is backward Euler's, over h; the next ones are over 2 h / 3).
   void remember(const Vec3List& v, const std::vector<double>& release, double beta);
-  // After remember: the end velocities v (m/s) still move into the surface of a held
-  // contact, and the step stops that outside the solve (BDF-2, the midpoint rule). That
-  // impulse absorbs what is left of the contact's impact as its J_n would.
-  void absorb_stopped_approach(const Model& model, const Vec3List& v);
+  // After remember: the step then stops the normal part of a held contact's end velocity v
+  // (m/s) outside the solve (BDF-2, the midpoint rule: stop_held_contacts). An approach
+  // stopped absorbs what is left of the contact's impact. With `whole` the impulse counts
+  // as its J_n would: the rest of an approach adds to its next friction, a rebound taken
+  // back takes from it (beta: the step's, s). The midpoint rule needs that: its end
+  // velocity 2 w - v_n reflects a landing, whose J_n on w held the reflection too.
+  void settle_stopped_normal(const Model& model, const Vec3List& v, double beta, bool whole);
 
   int stuck() const;  // contacts sticking
 

@@ -891,7 +891,8 @@ void bdf2_step(const Model& model, State& state, Workspace& ws, double h, double
     newton_solve(model, state, ws, s, StepEquation{h, t, beta, t + h, beta, t + h, 1.0});
     take_velocities(model, s, state);
   }
-  s.contacts.absorb_stopped_approach(model, state.v);
+  s.contacts.settle_stopped_normal(model, state.v, history ? 2.0 * h / 3.0 : h,
+                                   /*whole=*/false);
   stop_held_contacts(model, s, state, /*friction_stops=*/false, &s.x_saved, &s.v_saved, h);
   end_step(state, s, h, t);
 }
@@ -915,6 +916,7 @@ void midpoint_solve(const Model& model, State& state, Workspace& ws, double h, d
     state.x[i] += h * s.v[i];
     state.v[i] = 2.0 * s.v[i] - state.v[i];
   }
+  s.contacts.settle_stopped_normal(model, state.v, 0.5 * h, /*whole=*/true);
   s.contacts.stop_approach(state.v);
   stop_held_contacts(model, s, state, /*friction_stops=*/true, nullptr, nullptr, h);
   end_step(state, s, h, t);

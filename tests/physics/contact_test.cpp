@@ -424,6 +424,22 @@ TEST(Contact, SlantedImpactTakesCoulombsFrictionOnce) {
 // here), so a vertex caught with an impact starts its history anew, at constant velocity.
 // From that history BDF-2 falls behind a constant deceleration a by a h / 3, then 4 a h /
 // 9, ... and about a h / 2 for good (0.5007 a h here): the tolerance is 0.55 a h.
+TEST(Contact, SlantedImpactTakesCoulombsFrictionOnceWithTheMidpointRule) {
+  const double h = 1.0 / 60.0, mu = 0.4, along = 1.0, down = 0.5;  // s, -, m/s, m/s
+  Incline in = sheet_on_incline(0.0, mu, h);
+  in.sheet.model.integrator = Integrator::ImplicitMidpoint;
+  for (Vec3& v : in.sheet.state.v) v = Vec3(along, 0.0, -down);
+  Workspace ws;
+  for (int k = 1; k <= 8; ++k) {
+    ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+    const double expected = along - mu * down - mu * kG * k * h;  // m/s
+    for (const Vec3& v : in.sheet.state.v) {
+      EXPECT_NEAR(v.x(), expected, 1e-6 * along) << "step " << k;
+      EXPECT_NEAR(v.z(), 0.0, 1e-9) << "step " << k;
+    }
+  }
+}
+
 TEST(Contact, SlantedImpactTakesCoulombsFrictionOnceWithBdf2) {
   const double h = 1.0 / 240.0, mu = 0.4, along = 1.0, down = 0.5;  // s, -, m/s, m/s
   Incline in = sheet_on_incline(0.0, mu, h);
