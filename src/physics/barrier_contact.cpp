@@ -243,7 +243,7 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
     const int o = static_cast<int>(placed_.size()) - 1;
     landing_scratch_.assign(landings_.empty() ? 0 : n, 0.0);
     for (const LandingImpulse& l : landings_) {
-      if (l.obstacle == o) landing_scratch_[l.vertex] = l.impulse;
+      if (l.obstacle == o && l.vertex < n) landing_scratch_[l.vertex] = l.impulse;
     }
     for (int i = 0; i < n; ++i) {
       if (model.pinned[i]) continue;

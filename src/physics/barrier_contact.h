@@ -115,9 +115,6 @@ NormalDamping vertex_damping(const PlacedObstacle& obstacle, const Vec3& p, doub
 // distance for a capped cylinder and a mesh, which returns a t at or before it).
 double first_touch(const PlacedObstacle& obstacle, const Vec3& p, const Vec3& u);
 
-// The barrier contacts of one implicit step, whose equation applies the forces with weight
-// beta: M (v - v_base) = beta f + ... End positions are x_end(v) = x_end_base + beta_end v;
-// the barrier acts on them like the other forces, so its impulse on the step equation is
 // The normal impulse (kg*m/s) the band's damping gave a vertex against an obstacle in a
 // step: what stopped its landing there (or, negative, held back its rebound), which the
 // next step's lagged friction takes with the barrier's force (a landing's impact is the
@@ -129,6 +126,9 @@ struct LandingImpulse {
   double impulse = 0.0;
 };
 
+// The barrier contacts of one implicit step, whose equation applies the forces with weight
+// beta: M (v - v_base) = beta f + ... End positions are x_end(v) = x_end_base + beta_end v;
+// the barrier acts on them like the other forces, so its impulse on the step equation is
 // -beta grad B(x_end), its matrix beta beta_end Hess B and its share of the incremental
 // potential (beta / beta_end) B. (Backward Euler and BDF-2: beta = beta_end. The midpoint
 // rule solves for the midpoint velocity w with beta = h / 2 and ends at x_n + h w: its

@@ -44,26 +44,30 @@ Vec3 along_two_normals(const Vec3& n_a, const Vec3& n_b, double r_a, double r_b)
 
 namespace {
 
-// The speed (m/s) at which a vertex caught at velocity v approaches c's surface, gravity's
-// push into it over beta (s) included.
-double approach_speed(const VertexContact& c, const Vec3& v, const Vec3& gravity, double beta) {
-  return std::max(0.0, -c.normal.dot(v - c.surface_velocity)) +
-         beta * std::max(0.0, -c.normal.dot(gravity));
+// The part of a vertex's velocity v (m/s) into c's surface that the step's unknown must
+// stop: `share` of it (1, or 1/2 for the midpoint rule, whose end velocity 2 w - v_n
+// doubles every impulse on its unknown w).
+double impact_speed(const VertexContact& c, const Vec3& v, double share) {
+  return share * std::max(0.0, -c.normal.dot(v - c.surface_velocity));
+}
+
+// The speed (m/s) at which a vertex caught at velocity v approaches c's surface, for the
+// step's unknown (share, above), gravity's push into it over beta (s) included.
+double approach_speed(const VertexContact& c, const Vec3& v, const Vec3& gravity, double beta,
+                      double share) {
+  return impact_speed(c, v, share) + beta * std::max(0.0, -c.normal.dot(gravity));
 }
 
 // Coulomb's law at a new contact, from the vertex's velocity v when it was caught: the
 // impulse that stops its approach (and gravity's push into the surface over beta) against
-// the one that stops its sliding (and gravity's pull along it). It sticks when mu times the
-// first holds the second; otherwise it slides with friction of at most mu times the first.
-// The solve then checks a sticking guess (switch_modes); a good first guess saves the
-// Newton iterations of a switch.
+// the one that stops its sliding (and gravity's pull along it), both on the step's unknown
+// (share). It sticks when mu times the first holds the second; otherwise it slides with
+// friction of at most mu times the first. The solve then checks a sticking guess
+// (switch_modes); a good first guess saves the Newton iterations of a switch.
 void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& gravity,
                   double beta, double share) {
-  const Vec3 relative = v - c.surface_velocity;
-  const double impact = share * std::max(0.0, -c.normal.dot(relative));  // m/s
-  const double approach =
-      impact + beta * std::max(0.0, -c.normal.dot(gravity));  // m/s
-  Vec3 sliding = relative + beta * gravity;
+  const double approach = approach_speed(c, v, gravity, beta, share);  // m/s
+  Vec3 sliding = share * (v - c.surface_velocity) + beta * gravity;
   sliding -= c.normal.dot(sliding) * c.normal;  // m/s
   const double speed = sliding.norm();
   if (speed <= c.friction * approach || speed == 0.0) {
@@ -72,14 +76,7 @@ void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& grav
   }
   c.mode = ContactMode::Slide;
   c.friction_limit = c.friction * mass * approach;
-  c.unabsorbed_impact = mass * impact;
-}
-
-// The share of a velocity change of the end of the step that the step's unknown carries:
-// 1, or 1/2 for the midpoint rule, whose end velocity 2 w - v_n doubles the impulses on
-// its unknown w (an impact's friction taken whole on w would be taken twice).
-double impact_share(const Model& model) {
-  return model.integrator == Integrator::ImplicitMidpoint ? 0.5 : 1.0;
+  c.unabsorbed_impact = mass * impact_speed(c, v, share);
 }
 
 // f1(y) / y of the smoothed friction (y = sliding speed, m/s), 1/(m/s).
@@ -136,7 +133,7 @@ Mat3 SlidingFriction::jacobian(const Vec3& v) const {
 
 void ContactSet::add_contact(const Model& model, const PlacedObstacle& placed, int o, int i,
                              const SurfacePoint& p, const Vec3List& x_end, const Memory& last,
-                             const Vec3List* velocities, double beta) {
+                             const Vec3List* velocities, double beta, double share) {
   const Obstacle& ob = *placed.obstacle;
   VertexContact c;
   c.vertex = i;
@@ -154,7 +151,7 @@ void ContactSet::add_contact(const Model& model, const PlacedObstacle& placed, i
     c.unabsorbed_impact = last.unabsorbed_impact;
   } else if (velocities) {
     predict_mode(c, (*velocities)[i], model.mass[i],
-                 model.gravity ? *model.gravity : Vec3::Zero(), beta, impact_share(model));
+                 model.gravity ? *model.gravity : Vec3::Zero(), beta, share);
   } else {
     c.mode = ContactMode::Stick;
   }
@@ -163,7 +160,7 @@ void ContactSet::add_contact(const Model& model, const PlacedObstacle& placed, i
 
 int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& placed,
                        const Vec3List& x_end, double margin, double remembered_margin,
-                       const Vec3List* velocities, double beta) {
+                       const Vec3List* velocities, double beta, double share) {
   const Vec3 gravity = model.gravity ? *model.gravity : Vec3::Zero();
   // How close a vertex is caught: a vertex released at the end of the last step only once
   // it is inside.
@@ -200,7 +197,8 @@ int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& pl
       const int best = closest(-1, nullptr, [&](int) { return limit; });
       if (best < 0) continue;
       of_vertex_[i] = static_cast<int>(contacts_.size());
-      add_contact(model, placed[best], best, i, best_point, x_end, memory_[i], velocities, beta);
+      add_contact(model, placed[best], best, i, best_point, x_end, memory_[i], velocities, beta,
+                  share);
       ++added;
     }
     if (placed.size() < 2) continue;
@@ -215,7 +213,7 @@ int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& pl
     if (best < 0) continue;
     second_of_vertex_[i] = static_cast<int>(contacts_.size());
     add_contact(model, placed[best], best, i, best_point, x_end, remembered(best), velocities,
-                beta);
+                beta, share);
     ++added;
     // Both slide: a stick of one would hold the vertex against the other's motion. A
     // sticking one takes the friction of the impulse it needed, or of its approach.
@@ -225,8 +223,9 @@ int ContactSet::detect(const Model& model, const std::vector<PlacedObstacle>& pl
       c.mode = ContactMode::Slide;
       const double impulse =
           std::max(c.normal_impulse,
-                   velocities ? model.mass[i] * approach_speed(c, (*velocities)[i], gravity, beta)
-                              : 0.0);  // kg*m/s
+                   velocities
+                       ? model.mass[i] * approach_speed(c, (*velocities)[i], gravity, beta, share)
+                       : 0.0);  // kg*m/s
       c.friction_limit = c.friction * impulse;
     }
   }
@@ -410,14 +409,14 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release,
 }
 
 void ContactSet::settle_stopped_normal(const Model& model, const Vec3List& v, double beta,
-                                       bool whole) {
+                                       double share, bool whole) {
   for (const VertexContact& c : contacts_) {
     if (second_of_vertex_[c.vertex] >= 0) continue;  // a corner's contacts slide apart
     Memory& m = memory_[c.vertex];
     if (!m.in_contact || m.mode != ContactMode::Slide) continue;
     // The impulse on the step's unknown that stops the end velocity's normal part: positive
     // where it stops an approach, negative where it takes back a rebound, kg*m/s.
-    const double stop = -impact_share(model) * model.mass[c.vertex] *
+    const double stop = -share * model.mass[c.vertex] *
                         c.normal.dot(v[c.vertex] - c.surface_velocity);
     const double absorbed = std::clamp(stop, 0.0, m.unabsorbed_impact);
     m.unabsorbed_impact -= absorbed;

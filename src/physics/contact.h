@@ -96,9 +96,11 @@ struct VertexContact {
   double pull = 0.0;                     // -J_n of the last solve if it pulls, kg*m/s
   Vec3 tangential_impulse = Vec3::Zero();  // J_t of the last solve while sticking, kg*m/s
   double friction_limit = 0.0;           // mu J_n while sliding, kg*m/s
-  // The impulse a contact caught sliding needs to stop the approach it was caught with,
-  // less what its normal impulses have absorbed so far, kg*m/s: its first step's friction
-  // took mu times it whole, so the next steps' friction leaves it out of J_n.
+  // The impulse a contact caught sliding needs to stop the approach it was caught with (on
+  // the step's unknown), less what its normal impulses have absorbed so far, kg*m/s: its
+  // first step's friction took mu times it whole, so the next steps' friction leaves it
+  // out of J_n. (A contact caught sticking and let go in that step took mu times that
+  // step's J_n only; it is not counted: the next step takes that impulse's friction again.)
   double unabsorbed_impact = 0.0;
 };
 
@@ -128,10 +130,12 @@ class ContactSet {
   // friction starts sticking, or, given the velocities (m/s) and the step's beta (s), in
   // the mode Coulomb's law predicts from them. Then, by the same rules, a second contact
   // on another obstacle for each vertex with one (both then slide, the friction of a
-  // sticking one from the impulse its approach needed). Returns how many were added.
+  // sticking one from the impulse its approach needed). `share`: the part of a change of
+  // the end velocity that the step's unknown takes (1; 1/2 for the midpoint rule, whose
+  // end velocity 2 w - v_n doubles its unknown's impulses). Returns how many were added.
   int detect(const Model& model, const std::vector<PlacedObstacle>& placed,
              const Vec3List& x_end, double margin, double remembered_margin = 0.0,
-             const Vec3List* velocities = nullptr, double beta = 0.0);
+             const Vec3List* velocities = nullptr, double beta = 0.0, double share = 1.0);
 
   // The normal velocity of every contact that puts x_end on its plane:
   // (offset - n . x_end_base) / beta_end.
@@ -179,9 +183,10 @@ class ContactSet {
   // (m/s) outside the solve (BDF-2, the midpoint rule: stop_held_contacts). An approach
   // stopped absorbs what is left of the contact's impact. With `whole` the impulse counts
   // as its J_n would: the rest of an approach adds to its next friction, a rebound taken
-  // back takes from it (beta: the step's, s). The midpoint rule needs that: its end
+  // back takes from it (beta: the step's, s; share as for detect). The midpoint rule needs that: its end
   // velocity 2 w - v_n reflects a landing, whose J_n on w held the reflection too.
-  void settle_stopped_normal(const Model& model, const Vec3List& v, double beta, bool whole);
+  void settle_stopped_normal(const Model& model, const Vec3List& v, double beta, double share,
+                             bool whole);
 
   int stuck() const;  // contacts sticking
 
@@ -207,7 +212,7 @@ class ContactSet {
   // its memory `last` or Coulomb's law gives.
   void add_contact(const Model& model, const PlacedObstacle& placed, int o, int i,
                    const SurfacePoint& p, const Vec3List& x_end, const Memory& last,
-                   const Vec3List* velocities, double beta);
+                   const Vec3List* velocities, double beta, double share);
   // (V) the memories remember replaced, which it reads; then its scratch.
   std::vector<Memory> last_memory_, last_second_memory_;
   // Calls visit(c, second) once for each vertex in contact: its (first) contact c and its

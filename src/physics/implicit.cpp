@@ -533,7 +533,8 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
     // A vertex in contact at the end of the last step (and not released) is caught again
     // while its predicted gap is within the distance gravity moves it over the step.
     const double fall = model.gravity ? model.gravity->norm() * eq.beta_end * eq.beta_end : 0.0;
-    s.contacts.detect(model, s.placed, x_end, kPenetrationTolerance, fall, &s.v, eq.beta);
+    s.contacts.detect(model, s.placed, x_end, kPenetrationTolerance, fall, &s.v, eq.beta,
+                      eq.warm_scale);
     s.contacts.set_targets(s.x_end_base, eq.beta_end);
     s.contacts.project(s.v);
   }
@@ -668,7 +669,8 @@ void newton_solve(const Model& model, const State& state, Workspace& ws, Implici
       t0 = std::clock();
       const Vec3List& x_end = end_positions(model, s, eq, state, s.v);
       const int added =
-          s.contacts.detect(model, s.placed, x_end, -kPenetrationTolerance, 0.0, &s.v, eq.beta);
+          s.contacts.detect(model, s.placed, x_end, -kPenetrationTolerance, 0.0, &s.v, eq.beta,
+                            eq.warm_scale);
       contact_changes += added;
       if (added > 0) {
         s.contacts.set_targets(s.x_end_base, eq.beta_end);
@@ -891,7 +893,7 @@ void bdf2_step(const Model& model, State& state, Workspace& ws, double h, double
     newton_solve(model, state, ws, s, StepEquation{h, t, beta, t + h, beta, t + h, 1.0});
     take_velocities(model, s, state);
   }
-  s.contacts.settle_stopped_normal(model, state.v, history ? 2.0 * h / 3.0 : h,
+  s.contacts.settle_stopped_normal(model, state.v, history ? 2.0 * h / 3.0 : h, 1.0,
                                    /*whole=*/false);
   stop_held_contacts(model, s, state, /*friction_stops=*/false, &s.x_saved, &s.v_saved, h);
   end_step(state, s, h, t);
@@ -916,7 +918,7 @@ void midpoint_solve(const Model& model, State& state, Workspace& ws, double h, d
     state.x[i] += h * s.v[i];
     state.v[i] = 2.0 * s.v[i] - state.v[i];
   }
-  s.contacts.settle_stopped_normal(model, state.v, 0.5 * h, /*whole=*/true);
+  s.contacts.settle_stopped_normal(model, state.v, 0.5 * h, 0.5, /*whole=*/true);
   s.contacts.stop_approach(state.v);
   stop_held_contacts(model, s, state, /*friction_stops=*/true, nullptr, nullptr, h);
   end_step(state, s, h, t);
