@@ -400,65 +400,50 @@ TEST(Contact, SlidingSheetDeceleratesAtMuGThenSticks) {
 
 // A sheet that strikes a level plane at a slant, sliding faster than friction can stop at
 // the impact: Coulomb's law takes mu times the impulse that stops its fall once, v_t -
-// mu v_n, then decelerates it at mu g. Backward Euler gives that exactly: the catch step
-// takes mu m (v_n + g h), each later step mu m g h. The step after the impact used to take
-// the landing's normal impulse over again (the lagged normal force held the impact), so
-// a sheet dropped on an incline with mu below tan(a) landed stuck at every step size.
+// mu v_n, then decelerates it at mu g. Checks its velocity after each of `steps` steps of
+// h (s) with `integrator`, within `tolerance` (m/s).
+void slanted_impact_takes_coulombs_friction(Integrator integrator, double h, int steps,
+                                            double tolerance) {
+  const double mu = 0.4, along = 1.0, down = 0.5;  // -, m/s, m/s
+  Incline in = sheet_on_incline(0.0, mu, h);
+  in.sheet.model.integrator = integrator;
+  for (Vec3& v : in.sheet.state.v) v = Vec3(along, 0.0, -down);
+  Workspace ws;
+  for (int k = 1; k <= steps; ++k) {
+    ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+    const double expected = along - mu * down - mu * kG * k * h;  // m/s
+    for (const Vec3& v : in.sheet.state.v) {
+      EXPECT_NEAR(v.x(), expected, tolerance) << "step " << k;
+      EXPECT_NEAR(v.z(), 0.0, 1e-9) << "step " << k;
+    }
+  }
+}
+
+// Backward Euler gives that exactly: the catch step takes mu m (v_n + g h), each later
+// step mu m g h. The step after the impact used to take the landing's normal impulse over
+// again (the lagged normal force held the impact), so a sheet dropped on an incline with
+// mu below tan(a) landed stuck at every step size.
 TEST(Contact, SlantedImpactTakesCoulombsFrictionOnce) {
-  const double h = 1.0 / 60.0, mu = 0.4, along = 1.0, down = 0.5;  // s, -, m/s, m/s
-  Incline in = sheet_on_incline(0.0, mu, h);
-  for (Vec3& v : in.sheet.state.v) v = Vec3(along, 0.0, -down);
-  Workspace ws;
-  for (int k = 1; k <= 8; ++k) {
-    ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
-    const double expected = along - mu * down - mu * kG * k * h;  // m/s
-    for (const Vec3& v : in.sheet.state.v) {
-      EXPECT_NEAR(v.x(), expected, 1e-6 * along) << "step " << k;
-      EXPECT_NEAR(v.z(), 0.0, 1e-9) << "step " << k;
-    }
-  }
+  slanted_impact_takes_coulombs_friction(Integrator::BackwardEuler, 1.0 / 60.0, 8, 1e-6);
 }
 
-// The midpoint rule at the same impact, exactly as backward Euler: it solves for the
-// midpoint velocity w and ends at 2 w - v_n, which doubles every impulse on w, so the catch
-// takes half the approach on w; and 2 w - v_n reflects the vertex caught on the plane,
-// whose reflection the step takes back outside the solve, and the J_n on w that made it
-// must not be taken again as the next step's friction (0.2 m/s slow from step 2 on).
+// The midpoint rule, exactly as well: it solves for the midpoint velocity w and ends at
+// 2 w - v_n, which doubles every impulse on w, so the catch takes half the approach on w;
+// and 2 w - v_n reflects the vertex caught on the plane, whose reflection the step takes
+// back outside the solve, and the J_n on w that made it must not be taken again as the
+// next step's friction (0.2 m/s slow from step 2 on).
 TEST(Contact, SlantedImpactTakesCoulombsFrictionOnceWithTheMidpointRule) {
-  const double h = 1.0 / 60.0, mu = 0.4, along = 1.0, down = 0.5;  // s, -, m/s, m/s
-  Incline in = sheet_on_incline(0.0, mu, h);
-  in.sheet.model.integrator = Integrator::ImplicitMidpoint;
-  for (Vec3& v : in.sheet.state.v) v = Vec3(along, 0.0, -down);
-  Workspace ws;
-  for (int k = 1; k <= 8; ++k) {
-    ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
-    const double expected = along - mu * down - mu * kG * k * h;  // m/s
-    for (const Vec3& v : in.sheet.state.v) {
-      EXPECT_NEAR(v.x(), expected, 1e-6 * along) << "step " << k;
-      EXPECT_NEAR(v.z(), 0.0, 1e-9) << "step " << k;
-    }
-  }
+  slanted_impact_takes_coulombs_friction(Integrator::ImplicitMidpoint, 1.0 / 60.0, 8, 1e-6);
 }
 
-// BDF-2 at the same impact: its base 4/3 v_n - 1/3 v_{n-1} would carry the speed the impact
-// took off into the next steps (a third, a ninth, ...: half of it again in all, 0.1 m/s
-// here), so a vertex caught with an impact starts its history anew, at constant velocity.
-// From that history BDF-2 falls behind a constant deceleration a by a h / 3, then 4 a h /
-// 9, ... and about a h / 2 for good (0.5007 a h here): the tolerance is 0.55 a h.
+// BDF-2: its base 4/3 v_n - 1/3 v_{n-1} would carry the speed the impact took off into the
+// next steps (a third, a ninth, ...: half of it again in all, 0.1 m/s here), so a vertex
+// caught with an impact starts its history anew, at constant velocity. From that history
+// BDF-2 falls behind a constant deceleration a by a h / 3, then 4 a h / 9, ... and about
+// a h / 2 for good (0.5007 a h here): the tolerance is 0.55 a h.
 TEST(Contact, SlantedImpactTakesCoulombsFrictionOnceWithBdf2) {
-  const double h = 1.0 / 240.0, mu = 0.4, along = 1.0, down = 0.5;  // s, -, m/s, m/s
-  Incline in = sheet_on_incline(0.0, mu, h);
-  in.sheet.model.integrator = Integrator::Bdf2;
-  for (Vec3& v : in.sheet.state.v) v = Vec3(along, 0.0, -down);
-  Workspace ws;
-  for (int k = 1; k <= 40; ++k) {
-    ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
-    const double expected = along - mu * down - mu * kG * k * h;  // m/s
-    for (const Vec3& v : in.sheet.state.v) {
-      EXPECT_NEAR(v.x(), expected, 0.55 * mu * kG * h) << "step " << k;
-      EXPECT_NEAR(v.z(), 0.0, 1e-9) << "step " << k;
-    }
-  }
+  const double h = 1.0 / 240.0, mu = 0.4;  // s, - (as in the check)
+  slanted_impact_takes_coulombs_friction(Integrator::Bdf2, h, 40, 0.55 * mu * kG * h);
 }
 
 // A sheet at rest on a belt (a level plane moving along itself at V): friction speeds it
