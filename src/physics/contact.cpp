@@ -70,11 +70,10 @@ void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& grav
   Vec3 sliding = share * (v - c.surface_velocity) + beta * gravity;
   sliding -= c.normal.dot(sliding) * c.normal;  // m/s
   const double speed = sliding.norm();
-  if (speed <= c.friction * approach || speed == 0.0) {
-    c.mode = ContactMode::Stick;
-    return;
-  }
-  c.mode = ContactMode::Slide;
+  c.mode = speed <= c.friction * approach || speed == 0.0 ? ContactMode::Stick
+                                                         : ContactMode::Slide;
+  // Coulomb's limit for the impact: a slide's friction, or what a stick holds while its J_n
+  // has stopped only part of the impact (switch_modes); either takes it whole.
   c.friction_limit = c.friction * mass * approach;
   c.unabsorbed_impact = mass * impact_speed(c, v, share);
 }
@@ -344,7 +343,9 @@ int ContactSet::switch_modes(bool converged) {
   for (VertexContact& c : contacts_) {
     if (c.friction == 0.0 || c.switched || c.mode != ContactMode::Stick) continue;
     if (!converged && c.normal_impulse <= 0.0) continue;  // not loaded yet: judged later
-    const double limit = c.friction * c.normal_impulse;
+    // A contact caught in this step holds up to Coulomb's limit for its whole impact: caught
+    // before it reaches the surface, its J_n here is only part of it.
+    const double limit = std::max(c.friction * c.normal_impulse, c.friction_limit);
     if (c.tangential_impulse.norm() <= limit) continue;
     c.mode = ContactMode::Slide;
     c.friction_limit = limit;

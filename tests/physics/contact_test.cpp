@@ -281,6 +281,26 @@ TEST(Contact, InclineDroppedOntoWithFrictionAboveTanASticksAfterLanding) {
   }
 }
 
+// Dropped 1 mm onto a 20 degree incline with mu = tan(a) / 0.98, the sheet lands at
+// v_n = 0.136 and v_t = 0.049 m/s: mu v_n = 0.050 m/s holds it, and gravity's pull over
+// the step is held by mu times its push, so Coulomb's law stops it at the impact. It is
+// caught in its first step, before it reaches the plane, where that step's J_n is only
+// part of the impact; judged against that part, its stick was let go and it slid at up
+// to 0.04 m/s for 0.3 s.
+TEST(Contact, SheetWhoseImpactFrictionHoldsSticksAtTheCatch) {
+  const double degrees = 20.0, h = 1.0 / 60.0, a = degrees * M_PI / 180.0;
+  Incline in = sheet_on_incline(degrees, std::tan(a) / 0.98, h);
+  for (Vec3& p : in.sheet.state.x) p += 0.001 * in.sheet.model.obstacles[0].axis;
+  Workspace ws;
+  double fastest = 0.0;  // m/s down the slope after the catch step
+  for (int k = 0; k < 30; ++k) {
+    ASSERT_FALSE(step(in.sheet.model, in.sheet.state, ws));
+    if (k == 0) continue;
+    for (const Vec3& v : in.sheet.state.v) fastest = std::max(fastest, v.dot(in.down_slope));
+  }
+  EXPECT_LT(fastest, 1e-9);
+}
+
 // The barrier model (barrier_contact.h) with friction above tan(a) holds the sheet by
 // sliding slower than eps = kSlidingSpeed: its smoothed friction reaches Coulomb's mu J_n at
 // eps, and the sheet needs tan(a) / mu of it, so once the lagged normal force is the
