@@ -95,12 +95,11 @@ struct VertexContact {
   double normal_impulse = 0.0;           // J_n of the last solve (0 if it pulls), kg*m/s
   double pull = 0.0;                     // -J_n of the last solve if it pulls, kg*m/s
   Vec3 tangential_impulse = Vec3::Zero();  // J_t of the last solve while sticking, kg*m/s
-  double friction_limit = 0.0;           // mu J_n while sliding, kg*m/s
-  // The impulse a contact caught sliding needs to stop the approach it was caught with (on
-  // the step's unknown), less what its normal impulses have absorbed so far, kg*m/s: its
-  // first step's friction took mu times it whole, so the next steps' friction leaves it
-  // out of J_n. (A contact caught sticking and let go in that step took mu times that
-  // step's J_n only; it is not counted: the next step takes that impulse's friction again.)
+  double friction_limit = 0.0;           // mu J_n while sliding (a new stick: what it holds), kg*m/s
+  // The impulse a new contact needs to stop the approach it was caught with (on the step's
+  // unknown), less what its normal impulses have absorbed so far, kg*m/s: sliding, or a
+  // stick let go, its first step's friction took mu times it whole, so the next steps'
+  // friction leaves it out of J_n.
   double unabsorbed_impact = 0.0;
 };
 
