@@ -95,7 +95,8 @@ struct VertexContact {
   double normal_impulse = 0.0;           // J_n of the last solve (0 if it pulls), kg*m/s
   double pull = 0.0;                     // -J_n of the last solve if it pulls, kg*m/s
   Vec3 tangential_impulse = Vec3::Zero();  // J_t of the last solve while sticking, kg*m/s
-  double friction_limit = 0.0;           // mu J_n while sliding (a new stick: what it holds), kg*m/s
+  // mu J_n while sliding; a stick caught in this step: what it holds (switch_modes), kg*m/s
+  double friction_limit = 0.0;
   // The impulse a new contact needs to stop the approach it was caught with (on the step's
   // unknown), less what its normal impulses have absorbed so far, kg*m/s: sliding, or a
   // stick let go, its first step's friction took mu times it whole, so the next steps'
@@ -182,8 +183,9 @@ class ContactSet {
   // (m/s) outside the solve (BDF-2, the midpoint rule: stop_held_contacts). An approach
   // stopped absorbs what is left of the contact's impact. With `whole` the impulse counts
   // as its J_n would: the rest of an approach adds to its next friction, a rebound taken
-  // back takes from it (beta: the step's, s; share as for detect). The midpoint rule needs that: its end
-  // velocity 2 w - v_n reflects a landing, whose J_n on w held the reflection too.
+  // back takes from it (beta: the step's, s; share as for detect). The midpoint rule needs
+  // that: its end velocity 2 w - v_n reflects a landing, whose J_n on w held the
+  // reflection too.
   void settle_stopped_normal(const Model& model, const Vec3List& v, double beta, double share,
                              bool whole);
 
