@@ -179,8 +179,9 @@ PairVector gap_gradient(const PairGap& g) {
 }  // namespace
 
 double edge_mollifier(const PairGap& g) {
-  if (!is_mollified(g)) return 1.0;
-  return mollifier_at(g.edges[0].cross(g.edges[1]).squaredNorm(), g.cross_limit).m;
+  if (g.cross_limit <= 0.0) return 1.0;
+  const double c = g.edges[0].cross(g.edges[1]).squaredNorm();  // m^4
+  return c < g.cross_limit ? mollifier_at(c, g.cross_limit).m : 1.0;
 }
 
 bool is_mollified(const PairGap& g) {

@@ -42,7 +42,7 @@ struct PairGap {
   Vec3 tangents[2] = {Vec3::Zero(), Vec3::Zero()};
   double weight_slopes[2][4] = {{0.0, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
   // Edge-edge pairs between pieces of cloth: the edges p1 - p0 and p3 - p2 (m) and the
-  // mollifier's threshold eps_x = 1e-3 |e0|^2 |e1|^2 at rest (m^4); 0 for other pairs.
+  // mollifier's threshold eps_x (m^4, cross_limit_at_rest); 0 for other pairs.
   Vec3 edges[2] = {Vec3::Zero(), Vec3::Zero()};
   double cross_limit = 0.0;
 
