@@ -78,6 +78,14 @@ void predict_mode(VertexContact& c, const Vec3& v, double mass, const Vec3& grav
   c.unabsorbed_impact = mass * impact_speed(c, v, share);
 }
 
+// Takes a normal impulse (kg*m/s) against what is left of a contact's impact, `unabsorbed`,
+// and returns the part it absorbs: none of a pull, at most what is left.
+double absorb_impact(double& unabsorbed, double impulse) {
+  const double absorbed = std::clamp(impulse, 0.0, unabsorbed);
+  unabsorbed -= absorbed;
+  return absorbed;
+}
+
 // f1(y) / y of the smoothed friction (y = sliding speed, m/s), 1/(m/s).
 double friction_ratio(double y) {
   constexpr double eps = kSlidingSpeed;
@@ -401,9 +409,9 @@ void ContactSet::remember(const Vec3List& v, const std::vector<double>& release,
       // Its friction for the next step, from the normal force of this one: an impact's
       // impulse is left out, its friction taken at the catch (Coulomb's law at an impact:
       // at most mu times its impulse, where carrying it on would take it twice).
-      const double absorbed = std::min(c.unabsorbed_impact, std::max(0.0, c.normal_impulse));
+      m.unabsorbed_impact = c.unabsorbed_impact;
+      const double absorbed = absorb_impact(m.unabsorbed_impact, c.normal_impulse);
       m.friction_force = c.friction * (c.normal_impulse - absorbed) / beta;
-      m.unabsorbed_impact = c.unabsorbed_impact - absorbed;
       m.sliding_speed = speed;
     }
   }
@@ -419,8 +427,7 @@ void ContactSet::settle_stopped_normal(const Model& model, const Vec3List& v, do
     // where it stops an approach, negative where it takes back a rebound, kg*m/s.
     const double stop = -share * model.mass[c.vertex] *
                         c.normal.dot(v[c.vertex] - c.surface_velocity);
-    const double absorbed = std::clamp(stop, 0.0, m.unabsorbed_impact);
-    m.unabsorbed_impact -= absorbed;
+    const double absorbed = absorb_impact(m.unabsorbed_impact, stop);
     if (!whole) continue;
     m.friction_force = std::max(0.0, m.friction_force + c.friction * (stop - absorbed) / beta);
   }
