@@ -427,8 +427,12 @@ void ContactSet::settle_stopped_normal(const Model& model, const Vec3List& v, do
     // where it stops an approach, negative where it takes back a rebound, kg*m/s.
     const double stop = -share * model.mass[c.vertex] *
                         c.normal.dot(v[c.vertex] - c.surface_velocity);
+    const bool caught = c.unabsorbed_impact > 0.0;  // read before the impact is absorbed
     const double absorbed = absorb_impact(m.unabsorbed_impact, stop);
-    if (!whole) continue;
+    // Without `whole` (BDF-2) only a catch's rebound is taken back from the next friction:
+    // its base, extrapolating the fall, lies beyond the surface, and its J_n holds the
+    // rebound that the step's end takes back.
+    if (!whole && !(caught && stop < 0.0)) continue;
     m.friction_force = std::max(0.0, m.friction_force + c.friction * (stop - absorbed) / beta);
   }
 }

@@ -185,7 +185,8 @@ class ContactSet {
   // as its J_n would: the rest of an approach adds to its next friction, a rebound taken
   // back takes from it (beta: the step's, s; share as for detect). The midpoint rule needs
   // that: its end velocity 2 w - v_n reflects a landing, whose J_n on w held the
-  // reflection too.
+  // reflection too. Without `whole` (BDF-2) only a rebound of a contact caught with an
+  // impact is taken from the next friction: a catch's base can lie beyond the surface.
   void settle_stopped_normal(const Model& model, const Vec3List& v, double beta, double share,
                              bool whole);
 
