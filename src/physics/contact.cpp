@@ -427,7 +427,7 @@ void ContactSet::settle_stopped_normal(const Model& model, const Vec3List& v, do
     // where it stops an approach, negative where it takes back a rebound, kg*m/s.
     const double stop = -share * model.mass[c.vertex] *
                         c.normal.dot(v[c.vertex] - c.surface_velocity);
-    const bool caught = c.unabsorbed_impact > 0.0;  // read before the impact is absorbed
+    const bool caught = c.unabsorbed_impact > 0.0;  // it came with an impact to absorb
     const double absorbed = absorb_impact(m.unabsorbed_impact, stop);
     // Without `whole` (BDF-2) only a catch's rebound is taken back from the next friction:
     // its base, extrapolating the fall, lies beyond the surface, and its J_n holds the

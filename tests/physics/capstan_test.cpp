@@ -26,15 +26,20 @@ constexpr double kLeft = 0.2;       // m of strip hanging on the light side
 constexpr double kWidth = 0.1;      // m
 constexpr double kClearance = 5e-4;  // m between the laid strip and the cylinder
 
-// The largest b (m) that the capstan law holds against kLeft: the ODE above, RK4.
-double capstan_limit() {
-  // T in units of rho g (m): T(-pi/2) = kLeft.
-  auto slope = [](double th, double t) {
-    return kFriction * t + kRadius * (kFriction * std::cos(th) - std::sin(th));
+// The tension (N/m, per unit rho) at th = pi/2 of an inextensible rope of hanging length
+// `left` (m) on the light side, sliding at u (m/s) toward the heavy side with acceleration
+// a (m/s^2): along the wrap
+//   dT/dth = mu (T - u^2) + g R (mu cos th - sin th) + R a
+// (the normal force T / R + g cos th - u^2 / R, the centrifugal part included), from
+// T(-pi/2) = left (g + a); RK4. At rest (u = a = 0) it is the capstan ODE above.
+double wrap_tension(double left, double u, double a) {
+  auto slope = [&](double th, double t) {
+    return kFriction * (t - u * u) + kG * kRadius * (kFriction * std::cos(th) - std::sin(th)) +
+           kRadius * a;
   };
-  const int n = 2000;
+  const int n = 200;
   const double d = M_PI / n;
-  double th = -M_PI / 2, t = kLeft;
+  double th = -M_PI / 2, t = left * (kG + a);
   for (int i = 0; i < n; ++i) {
     const double k1 = slope(th, t), k2 = slope(th + d / 2, t + d / 2 * k1);
     const double k3 = slope(th + d / 2, t + d / 2 * k2), k4 = slope(th + d, t + d * k3);
@@ -44,36 +49,20 @@ double capstan_limit() {
   return t;
 }
 
+// The largest b (m) that the capstan law holds against kLeft: T(pi/2) = g b at rest.
+double capstan_limit() { return wrap_tension(kLeft, 0.0, 0.0) / kG; }
+
 // How far (m) the heavy end of an inextensible rope of hanging lengths kLeft and `right`
-// goes down in `seconds`, from rest. Sliding at u toward the heavy side with acceleration
-// a, the rope's tension along the wrap obeys (per unit rho)
-//   dT/dth = mu (T - u^2) + g R (mu cos th - sin th) + R a
-// (the normal force T / R + g cos th - u^2 / R, the centrifugal part included), from
-// T(-pi/2) = left (g + a) to T(pi/2) = right (g - a): a solves that, linear in a, and the
-// hanging lengths change by the distance slid. Semi-implicit Euler at 0.1 ms.
+// goes down in `seconds`, from rest: each moment's a makes wrap_tension meet the heavy
+// side's right (g - a), linear in a, and the hanging lengths change by the distance slid.
+// Semi-implicit Euler at 0.1 ms.
 double rope_drop(double right, double seconds) {
-  auto tension_at_end = [](double left, double u, double a) {
-    auto slope = [&](double th, double t) {
-      return kFriction * (t - u * u) + kG * kRadius * (kFriction * std::cos(th) - std::sin(th)) +
-             kRadius * a;
-    };
-    const int n = 200;
-    const double d = M_PI / n;
-    double th = -M_PI / 2, t = left * (kG + a);
-    for (int i = 0; i < n; ++i) {
-      const double k1 = slope(th, t), k2 = slope(th + d / 2, t + d / 2 * k1);
-      const double k3 = slope(th + d / 2, t + d / 2 * k2), k4 = slope(th + d, t + d * k3);
-      t += d / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-      th += d;
-    }
-    return t;
-  };
   const double dt = 1e-4;
   double slid = 0.0, u = 0.0;
   for (int k = 0; k < static_cast<int>(std::round(seconds / dt)); ++k) {
     const double left = kLeft - slid, heavy = right + slid;
-    const double r0 = tension_at_end(left, u, 0.0) - heavy * kG;
-    const double r1 = tension_at_end(left, u, 1.0) - heavy * (kG - 1.0);
+    const double r0 = wrap_tension(left, u, 0.0) - heavy * kG;
+    const double r1 = wrap_tension(left, u, 1.0) - heavy * (kG - 1.0);
     const double a = std::max(-r0 / (r1 - r0), u > 0.0 ? -INFINITY : 0.0);
     u += a * dt;
     slid += u * dt;
