@@ -222,6 +222,7 @@ struct ClothContact::Impl {
   std::vector<std::vector<int>> buckets;  // (kBuckets) ring: bucket key % kBuckets
   std::vector<int> due;             // pairs to look at in the next step whatever it does
   std::vector<int> woken;           // the pairs looked at this step
+  std::vector<uint64_t> active_bits;  // (watches / 64) the active pairs, as a bit set
   bool fresh = false;               // the lists were just built: every pair is looked at
 
   // ---- per step ----
@@ -780,13 +781,19 @@ void ClothContact::Impl::select_active() {
       }
     }
     drained = std::max(drained, key);
+    // Gathered as bits and read out in the order of the lists, as the full pass below gives
+    // them (a sort of the woken pairs' order, which the buckets scramble, cost more).
+    active_bits.assign((watches.size() + 63) / 64, 0);
     for (int k : woken) {
       double a, b;
-      if (!apart(k, &a, &b)) active.push_back(k);
+      if (!apart(k, &a, &b)) active_bits[k >> 6] |= uint64_t{1} << (k & 63);
       wait(k, a, b);
     }
-    // In the order of the lists, as the full pass below gives them.
-    std::sort(active.begin(), active.end());
+    for (size_t w = 0; w < active_bits.size(); ++w) {
+      for (uint64_t bits = active_bits[w]; bits != 0; bits &= bits - 1) {
+        active.push_back(static_cast<int>(64 * w) + __builtin_ctzll(bits));
+      }
+    }
     start_distance.resize(active.size());
     return;
   }
