@@ -77,6 +77,11 @@ Closest closest_of(const Pair& pair, const Vec3* x[4]) {
   return c;
 }
 
+// Whether an edge-edge pair's closest points lie at an end of either edge.
+bool at_an_end(const Closest& c) {
+  return c.weights[0] == 1.0 || c.weights[1] == 1.0 || c.weights[2] == -1.0 || c.weights[3] == -1.0;
+}
+
 // A non-penetration constraint of an impact zone: n . sum_k w_k x1_k >= separation.
 struct Constraint {
   std::array<int, 4> p;
@@ -899,6 +904,11 @@ void ClothContact::Impl::proximity(ContactStats& stats) {
     const Closest c = closest_of(pair, x);
     start_distance[a] = c.distance;
     if (!pair.repel || c.distance <= 1e-12) continue;
+    // Two cloth edges closest at an end of one: that end is at most as far from a triangle
+    // of the other edge, whose vertex-triangle pair repels it (unless the two are
+    // neighbours in the fabric), so this pair is left out: on layers at rest most edge
+    // pairs meet end to end, and each repeated that impulse.
+    if (pair.edge_edge && pair.obstacle < 0 && at_an_end(c)) continue;
     // How close the pair may come by the end of the step: at most to the thickness, and
     // if already closer, a tenth of the way back out.
     const double shortfall = pair.thickness - c.distance;
