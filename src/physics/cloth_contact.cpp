@@ -255,6 +255,8 @@ struct ClothContact::Impl {
   int detection = 0;
   bool full_detection = true;
   std::vector<int> changed_at;  // (V) the detection round after which it last moved
+  std::vector<double> motion_of;   // (V) |x1 - x0| at the round motion_round says, m
+  std::vector<int> motion_round;   // (V) the detection round motion_of was measured in
   bool project_supports = true;  // kick() holds supported vertices out of their obstacle
 
   const Vec3& start(int id) const { return id < V ? (*x0)[id] : k0[id - V]; }
@@ -288,6 +290,7 @@ struct ClothContact::Impl {
   void proximity(ContactStats& stats);
   void collide(ContactStats& stats);
   int detect(std::vector<Constraint>& found);
+  double motion_in_round(int id, int round);
   void push_apart(const Constraint& c);
   bool solve_zones();
   void move_rigidly(const std::vector<int>& zone_vertices, int mesh_index);
@@ -950,6 +953,17 @@ void ClothContact::Impl::proximity(ContactStats& stats) {
   }
 }
 
+// How far point id moves over the step, |x1 - x0| (m), measured once in detection round
+// `round` for all the pairs that share it.
+double ClothContact::Impl::motion_in_round(int id, int round) {
+  if (id >= V) return (end(id) - start(id)).norm();
+  if (motion_round[id] != round) {
+    motion_round[id] = round;
+    motion_of[id] = (end(id) - start(id)).norm();
+  }
+  return motion_of[id];
+}
+
 // Step 2: continuous detection over x0 -> x1 of the active pairs; each impact becomes a
 // constraint. Returns how many were found.
 int ClothContact::Impl::detect(std::vector<Constraint>& found) {
@@ -965,7 +979,7 @@ int ClothContact::Impl::detect(std::vector<Constraint>& found) {
       if (!moved_since) continue;
     }
     double motion[4];
-    for (int k = 0; k < 4; ++k) motion[k] = (end(pair.p[k]) - start(pair.p[k])).norm();
+    for (int k = 0; k < 4; ++k) motion[k] = motion_in_round(pair.p[k], since);
     const double approach = pair.edge_edge
                                 ? std::max(motion[0], motion[1]) + std::max(motion[2], motion[3])
                                 : motion[0] + std::max({motion[1], motion[2], motion[3]});
@@ -1178,6 +1192,8 @@ void ClothContact::Impl::collide(ContactStats& stats) {
   if (active.empty()) return;
   full_detection = true;
   changed_at.resize(V, -1);
+  motion_of.resize(V);
+  motion_round.resize(V, -1);
   std::vector<Constraint> found;
   constraints.clear();
   // Plain impulses first.
