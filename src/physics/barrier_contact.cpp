@@ -232,6 +232,19 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
       pair_friction_.push_back({g, SlidingFriction{g.normal, Vec3::Zero(), mu * normal_impulse}});
     });
   }
+  if (obstacles && features_.active()) {
+    // Lagged friction on a mesh's corners and edges, where the barrier holds the cloth
+    // against them (the constraints' own friction acts at the vertices there): each pair's
+    // normal force at x_n, with the obstacles where they start the step, over the step.
+    features_.find_pairs(x_n, x_n, dhat_, /*from_start=*/true);
+    features_.for_each_contact_at_start(x_n, t, [&](const PairGap& g, int o, const Vec3& surface) {
+      const double mu = model.obstacles[o].friction;
+      if (mu == 0.0 || g.d <= 0.0 || g.d >= dhat_) return;
+      const double kappa = pair_stiffness(model, g, stiffness_step(model));
+      const double normal_impulse = -beta_ * barrier_derivative(g.d, dhat_, kappa);  // kg*m/s
+      pair_friction_.push_back({g, SlidingFriction{g.normal, surface, mu * normal_impulse}});
+    });
+  }
   for (const Obstacle& ob : model.obstacles) {
     if (!obstacles) break;
     placed_.push_back(place_obstacle(ob, t_end));

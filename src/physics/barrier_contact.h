@@ -138,7 +138,8 @@ class BarrierContact {
   // At the start of a step from positions x_n at t (s) to t_end: the analytic obstacles
   // placed at t_end, and the lagged friction of every vertex within dhat of an obstacle
   // with friction at x_n (normal impulse beta |b'(d)|, plus the damping's impulse that
-  // the last step's remember_landings kept). With the constraints model
+  // the last step's remember_landings kept), and of every self pair and mesh corner or edge
+  // pair within dhat at x_n (the latter under the barrier only). With the constraints model
   // (model.implicit.contact) it takes only the cloth against itself, where the scene
   // declares self_collision, and a mesh obstacle's corners and edges past
   // feature_thickness (the cloth's vertices against the obstacles are then the solve's

@@ -119,17 +119,18 @@ void MeshFeatureBarrier::begin(const Model& model, double t, double t_end) {
     }
     cloth_edges_mesh_ = model.mesh_id;
   }
-  for (const Obstacle& ob : model.obstacles) {
+  for (size_t o = 0; o < model.obstacles.size(); ++o) {
+    const Obstacle& ob = model.obstacles[o];
     if (ob.kind != ObstacleKind::Mesh) continue;
     const Features& f = features_of(ob.surface, least_bend(longest_edge_, ob.thickness));
     if (f.vertices.empty()) continue;
     placed_.push_back({&f, ob.center, ob.center_at(t_end), ob.rotation(t_end), ob.center_at(t),
-                       ob.rotation(t), feature_thickness(model, ob)});
+                       ob.rotation(t), feature_thickness(model, ob), static_cast<int>(o)});
   }
 }
 
 template <typename Local>
-PairGap MeshFeatureBarrier::gap_at(const Pair& pair, Local local) const {
+PairGap MeshFeatureBarrier::gap_at(const Pair& pair, Local local, bool at_start) const {
   const Placed& m = placed_[pair.mesh];
   const ClosedSurface& surface = *m.features->surface;
   const Vec3List& q = surface.vertices();
@@ -160,8 +161,22 @@ PairGap MeshFeatureBarrier::gap_at(const Pair& pair, Local local) const {
   const double distance = between.norm();
   g.d = distance - m.thickness;
   // Touching exactly (distance 0): any direction; the barrier is infinite there anyway.
-  g.normal = m.rotation * (distance > 0.0 ? Vec3(between / distance) : Vec3::UnitZ());
+  g.normal = (at_start ? m.start_rotation : m.rotation) *
+             (distance > 0.0 ? Vec3(between / distance) : Vec3::UnitZ());
   return g;
+}
+
+void MeshFeatureBarrier::for_each_contact_at_start(
+    const Vec3List& x, double t,
+    const std::function<void(const PairGap&, int, const Vec3&)>& visit) const {
+  for (const Pair& p : pairs_) {
+    const Placed& m = placed_[p.mesh];
+    const PairGap g = gap_at(p, [&](int i) { return m.local_at_start(x[i]); }, true);
+    Vec3 point = Vec3::Zero();  // the cloth's closest point, m
+    for (int k = 0; k < g.count; ++k) point += g.weights[k] * x[g.vertices[k]];
+    const Obstacle& ob = model_->obstacles[m.obstacle];
+    visit(g, m.obstacle, ob.velocity(t) + ob.angular_velocity(t).cross(point - ob.center_at(t)));
+  }
 }
 
 PairGap MeshFeatureBarrier::gap_of(const Pair& pair, const Vec3List& x) const {

@@ -19,12 +19,15 @@
 // and the collision stage after the solve keep the cloth out.
 // The cloth's vertices against the mesh's surface are BarrierContact's vertex gaps, or under
 // the constraints model (model.implicit.contact) the solve's constraints, which hold them at
-// T: the pairs then take a thinner layer (feature_thickness).
+// T: the pairs then take a thinner layer (feature_thickness). Under the barrier the pairs
+// also take the obstacle's friction (BarrierContact::begin, for_each_contact_at_start):
+// where cloth turns over an edge they carry the turn's normal force.
 // Tested in tests/physics/mesh_barrier_test.cpp.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -75,6 +78,13 @@ class MeshFeatureBarrier {
     for (const Pair& p : pairs_) visit(gap_of(p, x));
   }
 
+  // visit(gap, obstacle, surface_velocity) for each pair at positions x (m) with the
+  // obstacles where they start the step (time t, s): `obstacle` indexes model.obstacles,
+  // `surface_velocity` is the obstacle's rigid velocity (m/s) at the cloth's closest point.
+  void for_each_contact_at_start(
+      const Vec3List& x, double t,
+      const std::function<void(const PairGap&, int, const Vec3&)>& visit) const;
+
   // The first fraction t in [0, 1] of the paths x + t u (m) at which a pair's gap falls to
   // zero, found by conservative advancement (at or before the touch); 1 if none does.
   double first_touch(const Vec3List& x, const Vec3List& u) const;
@@ -97,6 +107,7 @@ class MeshFeatureBarrier {
     Vec3 start_center = Vec3::Zero();  // at t, m
     Mat3 start_rotation = Mat3::Identity();
     double thickness = 0.0;  // m, feature_thickness
+    int obstacle = -1;       // index into model.obstacles
     // p (world, m) in the surface's frame with the obstacle at t_end, or at t.
     Vec3 local(const Vec3& p) const { return rest_center + rotation.transpose() * (p - center); }
     Vec3 local_at_start(const Vec3& p) const {
@@ -112,9 +123,10 @@ class MeshFeatureBarrier {
   const Features& features_of(const std::shared_ptr<const ClosedSurface>& surface,
                               double least_angle);
   PairGap gap_of(const Pair& pair, const Vec3List& x) const;
-  // The pair's gap with cloth vertex i at local(i), in the surface's frame (m).
+  // The pair's gap with cloth vertex i at local(i), in the surface's frame (m); its normal
+  // in world axes with the obstacle turned as it ends the step, or (at_start) starts it.
   template <typename Local>
-  PairGap gap_at(const Pair& pair, Local local) const;
+  PairGap gap_at(const Pair& pair, Local local, bool at_start = false) const;
   // Conservative advancement of one pair along straight paths in the surface's frame,
   // from start(i) to end(i), up to `limit`.
   template <typename Start, typename End>

@@ -208,6 +208,61 @@ TEST(MeshBarrier, ImpulsesMatchFiniteDifferencesOfThePotential) {
   EXPECT_NEAR(curvature, second, 1e-4 * std::fabs(second));
 }
 
+// Friction on the box's corner and edges: a triangle over the box's corner, 1 mm past the
+// thickness, its vertices beyond dhat of the box, so that only the feature pairs touch it,
+// sliding across the corner. The lagged friction's impulses are minus the gradient of the
+// potential (finite differences), its matrix the potential's curvature along the slide, and
+// it opposes the slide, at most mu times the pairs' normal impulse (the vertices take none).
+TEST(MeshBarrier, FrictionOnCornersAndEdgesMatchesFiniteDifferencesAndOpposesTheSlide) {
+  const Vec3List x = {Vec3(0.12, 0.17, kThickness + 0.001), Vec3(0.17, 0.12, kThickness + 0.001),
+                      Vec3(0.19, 0.19, kThickness + 0.001)};
+  const double mu = 0.4;
+  Vec3List v(3, Vec3(0.05, -0.02, 0.0));  // m/s, across the corner
+  Eigen::VectorXd rhs[2];
+  for (int with = 0; with < 2; ++with) {
+    Model m = one_triangle(x);
+    m.implicit.barrier_distance = 0.004;  // m
+    m.obstacles[0].friction = with ? mu : 0.0;
+    const double h = m.dt;
+    BarrierContact contact;
+    contact.begin(m, x, x, h, h, 0.0, h);
+    ASSERT_TRUE(contact.enabled());
+    Eigen::VectorXd dv = Eigen::VectorXd::Zero(9);
+    EXPECT_EQ(contact.largest_step(v, dv), 1.0);  // finds the pairs about x + h v
+    int pairs = 0;
+    ASSERT_GT(contact.active(v, nullptr, &pairs), 0);
+    ASSERT_GT(pairs, 0);
+    rhs[with] = Eigen::VectorXd::Zero(9);
+    contact.add_impulses(v, rhs[with]);
+    if (!with) continue;
+    testing::expect_impulses_match_potential(contact, v);
+    SystemMatrix system;
+    system.plan(m);
+    system.assemble(m, x, v, 0.0, h, true);
+    Eigen::VectorXd slide = Eigen::VectorXd::Zero(9), before(9), after(9);
+    for (int i = 0; i < 3; ++i) slide.segment<3>(3 * i) = Vec3(0.05, -0.02, 0.0).normalized();
+    system.matrix().multiply(slide, before);
+    contact.add_hessian(v, system);
+    system.matrix().multiply(slide, after);
+    const double curvature = slide.dot(after - before);
+    const double second = testing::potential_curvature(contact, v, slide, 1e-5);
+    EXPECT_NEAR(curvature, second, 1e-4 * std::fabs(second) + 1e-12);
+  }
+  // The friction's total impulse on the triangle: against the slide, horizontal, and at
+  // most mu times the barrier's upward impulse (which the slide hardly changes).
+  Vec3 friction = Vec3::Zero(), normal = Vec3::Zero();  // kg*m/s
+  for (int i = 0; i < 3; ++i) {
+    friction += Vec3(rhs[1].segment<3>(3 * i) - rhs[0].segment<3>(3 * i));
+    normal += Vec3(rhs[0].segment<3>(3 * i));
+  }
+  std::printf("  friction impulse %.3g kg*m/s against a normal impulse %.3g\n", friction.norm(),
+              normal.z());
+  ASSERT_GT(normal.z(), 0.0);
+  EXPECT_LT(friction.dot(v[0]) / (friction.norm() * v[0].norm()), -0.99);
+  EXPECT_LE(friction.norm(), mu * normal.z() * 1.05);
+  EXPECT_GE(friction.norm(), 0.5 * mu * normal.z());
+}
+
 // A coarse cotton sheet (5 cm cells) dropped 5 mm onto the box with backward Euler at
 // 1/60 s drapes over its edges: at every step no cloth triangle crosses the box's (exact
 // check) and no vertex is inside, and the barrier holds the box's edges by itself: the
