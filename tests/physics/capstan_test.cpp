@@ -14,6 +14,7 @@
 #include <string>
 
 #include "physics/step.h"
+#include "strip_checks.h"
 #include "test_meshes.h"
 
 namespace tissu {
@@ -98,19 +99,7 @@ testing::Sheet strip_over_cylinder(double right, Integrator integrator, double d
 // How far (m) the strip's heavy end goes down in `seconds`.
 double heavy_end_drop(double right, Integrator integrator, double dt, double seconds) {
   testing::Sheet s = strip_over_cylinder(right, integrator, dt);
-  int lowest = 0;
-  for (size_t i = 0; i < s.state.x.size(); ++i) {
-    if (s.state.x[i].z() < s.state.x[lowest].z()) lowest = static_cast<int>(i);
-  }
-  const double start = s.state.x[lowest].z();
-  Workspace ws;
-  const int steps = static_cast<int>(std::round(seconds / dt));
-  for (int k = 0; k < steps; ++k) {
-    const auto failure = step(s.model, s.state, ws);
-    EXPECT_FALSE(failure.has_value()) << "step " << k;
-    if (failure) break;
-  }
-  return start - s.state.x[lowest].z();
+  return testing::lowest_vertex_drop(s, seconds);
 }
 
 struct Case {

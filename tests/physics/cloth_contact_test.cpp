@@ -17,6 +17,7 @@
 #include "physics/membrane.h"
 #include "physics/step.h"
 #include "physics/step_scratch.h"
+#include "strip_checks.h"
 #include "test_meshes.h"
 
 namespace tissu {
@@ -673,12 +674,9 @@ EdgePull pull_over_edge(Integrator integrator, double dt, double seconds,
   m.integrator = integrator;
   m.dt = dt;
   m.implicit.contact = contact;
-  Obstacle box;
-  box.kind = ObstacleKind::Mesh;
   const testing::SurfaceData s = testing::box_surface(Vec3(-0.4, -0.2, -0.3), Vec3(0.0, 0.2, 0.0));
-  box.surface = std::make_shared<const ClosedSurface>(s.vertices, s.triangles, "box");
-  box.center = box.surface->bounds().center();
-  box.thickness = kThickness;
+  const Obstacle box =
+      testing::mesh_box(Vec3(-0.4, -0.2, -0.3), Vec3(0.0, 0.2, 0.0), kThickness, 0.0);
   m.obstacles = {box};
   m.self_collision = SelfCollision{kThickness, 0.0};
   precompute_rest(m);

@@ -9,12 +9,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <memory>
 #include <string>
 
-#include "collision/closed_surface.h"
-#include "collision/test_surfaces.h"
 #include "physics/step.h"
+#include "strip_checks.h"
 #include "test_meshes.h"
 
 namespace tissu {
@@ -50,14 +48,8 @@ testing::Sheet strip_over_edge(double hanging, Integrator integrator, double dt,
     }
   }
   s.model.implicit.contact = contact;
-  Obstacle box;
-  box.kind = ObstacleKind::Mesh;
-  const testing::SurfaceData b = testing::box_surface(Vec3(-0.4, -0.2, -0.4), Vec3(0.0, 0.2, 0.0));
-  box.surface = std::make_shared<const ClosedSurface>(b.vertices, b.triangles, "box");
-  box.center = box.surface->bounds().center();
-  box.thickness = kThickness;
-  box.friction = kFriction;
-  s.model.obstacles.push_back(box);
+  s.model.obstacles.push_back(
+      testing::mesh_box(Vec3(-0.4, -0.2, -0.4), Vec3(0.0, 0.2, 0.0), kThickness, kFriction));
   return s;
 }
 
@@ -65,19 +57,7 @@ testing::Sheet strip_over_edge(double hanging, Integrator integrator, double dt,
 double hanging_end_drop(double hanging, Integrator integrator, double dt, ContactModel contact,
                         double seconds) {
   testing::Sheet s = strip_over_edge(hanging, integrator, dt, contact);
-  int lowest = 0;
-  for (size_t i = 0; i < s.state.x.size(); ++i) {
-    if (s.state.x[i].z() < s.state.x[lowest].z()) lowest = static_cast<int>(i);
-  }
-  const double start = s.state.x[lowest].z();
-  Workspace ws;
-  const int steps = static_cast<int>(std::round(seconds / dt));
-  for (int k = 0; k < steps; ++k) {
-    const auto failure = step(s.model, s.state, ws);
-    EXPECT_FALSE(failure.has_value()) << "step " << k;
-    if (failure) break;
-  }
-  return start - s.state.x[lowest].z();
+  return testing::lowest_vertex_drop(s, seconds);
 }
 
 struct Case {
