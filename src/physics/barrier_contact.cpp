@@ -220,29 +220,28 @@ void BarrierContact::begin(const Model& model, const Vec3List& x_n, const Vec3Li
   self_.begin(model);
   coupling_.clear();
   pair_friction_.clear();
+  // Lagged friction of a pair within dhat at x_n: mu times its normal force there over the
+  // step, on its relative velocity against `surface` (m/s).
+  const auto add_pair_friction = [&](const PairGap& g, double mu, const Vec3& surface) {
+    if (mu == 0.0 || g.d <= 0.0 || g.d >= dhat_) return;
+    const double kappa = pair_stiffness(model, g, stiffness_step(model));
+    const double normal_impulse =
+        -beta_ * edge_mollifier(g) * barrier_derivative(g.d, dhat_, kappa);  // kg*m/s
+    pair_friction_.push_back({g, SlidingFriction{g.normal, surface, mu * normal_impulse}});
+  };
   if (self_.active() && model.self_collision->friction > 0.0) {
-    // Lagged friction between layers: each self pair's normal force at x_n over the step.
+    // Between layers: relative velocities, no surface.
     self_.find_pairs(x_n, x_n, dhat_);
     const double mu = model.self_collision->friction;
-    self_.for_each_gap(x_n, [&](const PairGap& g) {
-      if (g.d <= 0.0 || g.d >= dhat_) return;
-      const double kappa = pair_stiffness(model, g, stiffness_step(model));
-      const double normal_impulse =
-          -beta_ * edge_mollifier(g) * barrier_derivative(g.d, dhat_, kappa);  // kg*m/s
-      pair_friction_.push_back({g, SlidingFriction{g.normal, Vec3::Zero(), mu * normal_impulse}});
-    });
+    self_.for_each_gap(x_n, [&](const PairGap& g) { add_pair_friction(g, mu, Vec3::Zero()); });
   }
   if (obstacles && features_.active()) {
-    // Lagged friction on a mesh's corners and edges, where the barrier holds the cloth
-    // against them (the constraints' own friction acts at the vertices there): each pair's
-    // normal force at x_n, with the obstacles where they start the step, over the step.
+    // On a mesh's corners and edges, where the barrier holds the cloth against them (the
+    // constraints' own friction acts at the vertices there), with the obstacles where they
+    // start the step.
     features_.find_pairs(x_n, x_n, dhat_, /*from_start=*/true);
     features_.for_each_contact_at_start(x_n, t, [&](const PairGap& g, int o, const Vec3& surface) {
-      const double mu = model.obstacles[o].friction;
-      if (mu == 0.0 || g.d <= 0.0 || g.d >= dhat_) return;
-      const double kappa = pair_stiffness(model, g, stiffness_step(model));
-      const double normal_impulse = -beta_ * barrier_derivative(g.d, dhat_, kappa);  // kg*m/s
-      pair_friction_.push_back({g, SlidingFriction{g.normal, surface, mu * normal_impulse}});
+      add_pair_friction(g, model.obstacles[o].friction, surface);
     });
   }
   for (const Obstacle& ob : model.obstacles) {

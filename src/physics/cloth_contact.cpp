@@ -883,7 +883,7 @@ void ClothContact::Impl::find_supports(double t1) {
       const double d = ob.signed_distance_from(p, centre, &n, turn, reach);
       if (d >= reach) continue;
       support_of[i] = static_cast<int>(supports.size());
-      supports.push_back({n, n.dot(p), ob.velocity(t1) + ob.angular_velocity(t1).cross(p - centre)});
+      supports.push_back({n, n.dot(p), ob.point_velocity(p, t1)});
       break;
     }
   }

@@ -174,8 +174,7 @@ void MeshFeatureBarrier::for_each_contact_at_start(
     const PairGap g = gap_at(p, [&](int i) { return m.local_at_start(x[i]); }, true);
     Vec3 point = Vec3::Zero();  // the cloth's closest point, m
     for (int k = 0; k < g.count; ++k) point += g.weights[k] * x[g.vertices[k]];
-    const Obstacle& ob = model_->obstacles[m.obstacle];
-    visit(g, m.obstacle, ob.velocity(t) + ob.angular_velocity(t).cross(point - ob.center_at(t)));
+    visit(g, m.obstacle, model_->obstacles[m.obstacle].point_velocity(point, t));
   }
 }
 

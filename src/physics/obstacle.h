@@ -63,6 +63,10 @@ struct Obstacle {
   Vec3 center_at(double t) const { return center + offset(t); }
   Mat3 rotation(double t) const;          // turn about the centre since t = 0 (keyframes)
   Vec3 angular_velocity(double t) const;  // rad/s, world axes
+  // Rigid velocity at time t (m/s) of the obstacle's point at world position p (m).
+  Vec3 point_velocity(const Vec3& p, double t) const {
+    return velocity(t) + angular_velocity(t).cross(p - center_at(t));
+  }
   // World position at time t of a point that is at `p0` at t = 0 (moving with the obstacle).
   Vec3 carried(const Vec3& p0, double t) const;
 
