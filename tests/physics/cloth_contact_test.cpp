@@ -674,9 +674,9 @@ EdgePull pull_over_edge(Integrator integrator, double dt, double seconds,
   m.integrator = integrator;
   m.dt = dt;
   m.implicit.contact = contact;
-  const testing::SurfaceData s = testing::box_surface(Vec3(-0.4, -0.2, -0.3), Vec3(0.0, 0.2, 0.0));
   const Obstacle box =
       testing::mesh_box(Vec3(-0.4, -0.2, -0.3), Vec3(0.0, 0.2, 0.0), kThickness, 0.0);
+  const ClosedSurface& surface = *box.surface;
   m.obstacles = {box};
   m.self_collision = SelfCollision{kThickness, 0.0};
   precompute_rest(m);
@@ -701,7 +701,8 @@ EdgePull pull_over_edge(Integrator integrator, double dt, double seconds,
     }
     r.centroid_x.push_back(cx);
     r.crossed = r.crossed || crosses(m, st.x) ||
-                crossings_between(st.x, m.triangles, s.vertices, s.triangles, 1).any();
+                crossings_between(st.x, m.triangles, surface.vertices(), surface.triangles(), 1)
+                    .any();
   }
   return r;
 }

@@ -17,6 +17,7 @@
 #include "physics/step.h"
 #include "physics/system_matrix.h"
 #include "barrier_checks.h"
+#include "strip_checks.h"
 #include "test_meshes.h"
 
 namespace tissu {
@@ -25,15 +26,7 @@ namespace {
 constexpr double kThickness = 0.002;  // m
 const Vec3 kLow(-0.15, -0.15, -0.2), kHigh(0.15, 0.15, 0.0);  // the box, m
 
-Obstacle box_obstacle() {
-  const testing::SurfaceData s = testing::box_surface(kLow, kHigh);
-  Obstacle o;
-  o.kind = ObstacleKind::Mesh;
-  o.surface = std::make_shared<const ClosedSurface>(s.vertices, s.triangles, "test box");
-  o.center = o.surface->bounds().center();
-  o.thickness = kThickness;
-  return o;
-}
+Obstacle box_obstacle() { return testing::mesh_box(kLow, kHigh, kThickness, 0.0); }
 
 // One cloth triangle (rest edges of 4 cm) placed at x.
 Model one_triangle(const Vec3List& x) {

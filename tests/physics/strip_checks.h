@@ -1,5 +1,5 @@
 // Helpers for the strips hung over obstacles (capstan_test.cpp, edge_friction_test.cpp) and
-// the sheets pulled over a box mesh (cloth_contact_test.cpp).
+// the box meshes the cloth meets (cloth_contact_test.cpp, mesh_barrier_test.cpp).
 #pragma once
 
 #include <gtest/gtest.h>
